@@ -1,0 +1,2 @@
+// The CLI lands in the next commit.
+int main() { return 1; }

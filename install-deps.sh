@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages lgvi-testbed builds and runs with. Idempotent: when every
+# package is already installed it does nothing (no apt-get update, no network).
+# Runs as root, or through sudo when that is available.
+set -euo pipefail
+
+packages=(
+  g++ cmake make pkg-config git
+  libeigen3-dev          # fixed-size linear algebra
+  libsundials-dev        # CVODE / CVODES baselines
+  libgsl-dev             # GSL odeiv2 baselines, splines
+  libboost-dev           # Boost.Odeint (header-only)
+  libnlopt-cxx-dev       # SLSQP for the direct method
+  libgtest-dev           # tests
+  libbenchmark-dev       # Google Benchmark
+  libcli11-dev           # command-line options
+  libtomlplusplus-dev    # scene files (TOML)
+  gnuplot-nox            # plots (pngcairo)
+  fonts-dejavu-core      # a font for the PNG plots (not pulled in without recommends)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "install-deps: installing ${missing[*]}" >&2
+as_root=()
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install-deps: run as root (or install sudo)" >&2; exit 1; }
+  as_root=(sudo)
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${as_root[@]}" apt-get update -q
+"${as_root[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"

@@ -1,0 +1,99 @@
+// Fixed-step driver for any LGVI flow map: steps, controls sampled at the grid, an observer for
+// output, and a Stats summary. The driver never prints; observers do the output.
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <algorithm>
+
+#include "lgvi/rotation_update.hpp"
+
+namespace lgvi {
+
+/// Why an integration stopped.
+enum class IntegrationStatus { Completed, RotationUpdateFailed, ObserverStopped };
+const char* to_string(IntegrationStatus s);
+
+/// Summary of an integration run (the project's common Stats, like Ceres' Solver::Summary).
+struct Stats {
+  IntegrationStatus status = IntegrationStatus::Completed;
+  std::size_t steps = 0;                  ///< steps completed
+  std::size_t potential_evaluations = 0;  ///< the LGVI's "right-hand side" count
+  std::size_t newton_iterations = 0;      ///< rotation-update Newton iterations, total
+  int max_newton_iterations = 0;          ///< worst single step
+  std::size_t fallbacks = 0;              ///< steps that needed the fallback parametrization
+  double max_rotation_residual = 0.0;     ///< worst relative residual of the rotation update
+  double wall_seconds = 0.0;
+  // Failure location (status == RotationUpdateFailed): the step k -> k+1 that failed.
+  std::size_t failed_step = 0;
+  double failed_time = 0.0;
+  RotationUpdateSummary failure;
+
+  bool ok() const { return status == IntegrationStatus::Completed; }
+  /// One line, e.g. "completed 1000 steps, 3012 Newton iterations (max 4), 0.01 s" or
+  /// "rotation update failed at step 12 (t = 0.12): outside the rotation update's domain ...".
+  std::string brief() const;
+};
+
+/// Integrates `steps` steps of size h from `state` (updated in place) with controls
+/// u(t) sampled at the grid t_k = t0 + k h (each sample evaluated once). The observer is called
+/// as observer(k, t_k, state, summary) for k = 0 (summary of a default, converged solve) and
+/// after every step; returning false stops the run (status ObserverStopped).
+/// Stops at the first failed rotation update, leaving `state` at the last good step.
+template <class Integrator, class ControlFn, class Observer>
+Stats integrate(const Integrator& lgvi, typename Integrator::State& state, double t0, double h,
+                std::size_t steps, ControlFn&& control, Observer&& observer) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  Stats stats;
+  RotationUpdateSummary initial;
+  initial.status = RotationUpdateStatus::Converged;
+  if (!observer(std::size_t{0}, t0, std::as_const(state), initial)) {
+    stats.status = IntegrationStatus::ObserverStopped;
+  }
+  typename Integrator::Control u_k = control(t0);
+  for (std::size_t k = 0; k < steps && stats.ok(); ++k) {
+    const double t1 = t0 + static_cast<double>(k + 1) * h;
+    const typename Integrator::Control u_k1 = control(t1);
+    const RotationUpdateSummary s = lgvi.step(state, h, u_k, u_k1, state);
+    stats.newton_iterations += static_cast<std::size_t>(s.iterations);
+    if (!s.converged()) {
+      stats.status = IntegrationStatus::RotationUpdateFailed;
+      stats.failed_step = k;
+      stats.failed_time = t0 + static_cast<double>(k) * h;
+      stats.failure = s;
+      break;
+    }
+    ++stats.steps;
+    stats.potential_evaluations += Integrator::potential_evaluations_per_step;
+    stats.max_newton_iterations = std::max(stats.max_newton_iterations, s.iterations);
+    stats.fallbacks += s.used_fallback ? 1 : 0;
+    stats.max_rotation_residual = std::max(stats.max_rotation_residual, s.residual);
+    if (!observer(k + 1, t1, std::as_const(state), s)) stats.status = IntegrationStatus::ObserverStopped;
+    u_k = u_k1;
+  }
+  stats.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return stats;
+}
+
+/// Control function returning zero for every t (Control::Zero() for Eigen vectors, whose
+/// default constructor leaves the entries uninitialized; a value-initialized struct otherwise).
+template <class Control>
+auto zero_control() {
+  return [](double) {
+    if constexpr (requires { Control::Zero(); }) {
+      return Control(Control::Zero());
+    } else {
+      return Control{};
+    }
+  };
+}
+/// Observer that records nothing.
+inline auto null_observer() {
+  return [](std::size_t, double, const auto&, const RotationUpdateSummary&) { return true; };
+}
+
+}  // namespace lgvi

@@ -1,0 +1,60 @@
+#include "lgvi/lgvi.hpp"
+
+#include <cstdio>
+
+#include "lgvi/integrate.hpp"
+
+namespace lgvi {
+
+const char* to_string(LgviForm f) { return f == LgviForm::Symmetric ? "symmetric" : "printed"; }
+
+LgviForm parse_lgvi_form(const std::string& name) {
+  if (name == "symmetric") return LgviForm::Symmetric;
+  if (name == "printed") return LgviForm::Printed;
+  throw InvalidInput("form", "must be 'symmetric' or 'printed' (got '" + name + "')");
+}
+
+DumbbellLgvi::State DumbbellLgvi::make_state(const Mat3& R, const Vec3& x, const Vec3& Omega,
+                                             const Vec3& v) const {
+  require_finite(R, "R0");
+  if (!so3::is_rotation(R, 1e-10)) throw InvalidInput("R0", "is not a rotation matrix (R^T R != I or det R != 1)");
+  require_finite(x, "x0");
+  require_finite(Omega, "Omega0");
+  require_finite(v, "v0");
+  if (x.norm() <= system_.rho.norm()) {
+    throw InvalidInput("x0", "places a sphere at or inside the central body's centre (|x| <= |rho|)");
+  }
+  State s;
+  s.R = R;
+  s.x = x;
+  s.Pi = system_.inertia.J * Omega;
+  s.v = v;
+  s.forces = system_.forces(R, x);
+  return s;
+}
+
+const char* to_string(IntegrationStatus s) {
+  switch (s) {
+    case IntegrationStatus::Completed: return "completed";
+    case IntegrationStatus::RotationUpdateFailed: return "rotation update failed";
+    case IntegrationStatus::ObserverStopped: return "stopped by observer";
+  }
+  return "unknown";
+}
+
+std::string Stats::brief() const {
+  char buf[512];
+  if (status == IntegrationStatus::RotationUpdateFailed) {
+    std::snprintf(buf, sizeof buf, "rotation update failed at step %zu (t = %.17g): %s", failed_step,
+                  failed_time, failure.brief().c_str());
+  } else {
+    std::snprintf(buf, sizeof buf,
+                  "%s %zu steps, %zu Newton iterations (max %d per step, %zu fallbacks), "
+                  "%zu potential evaluations, %.3g s",
+                  to_string(status), steps, newton_iterations, max_newton_iterations, fallbacks,
+                  potential_evaluations, wall_seconds);
+  }
+  return buf;
+}
+
+}  // namespace lgvi

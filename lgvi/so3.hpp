@@ -1,0 +1,156 @@
+// SO(3): the rotation group and its Lie algebra so(3) ~ R^3.
+//
+// Conventions (paper, section 2 and eq. 8): hat(x) y = x cross y; exp/log are the matrix
+// exponential and principal logarithm (rotation angle in [0, pi]); the Cayley map is
+// cay(f) = (I + hat f)(I - hat f)^{-1}, whose parameter f = tan(theta/2) n.
+// Small-angle branches use Taylor series below the thresholds stated next to each function;
+// the thresholds keep the truncation error below 1e-17 relative.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "lgvi/types.hpp"
+
+namespace lgvi::so3 {
+
+/// hat: R^3 -> so(3), hat(x) y = x cross y.
+inline Mat3 hat(const Vec3& x) {
+  Mat3 X;
+  X << 0.0, -x.z(), x.y(),  //
+      x.z(), 0.0, -x.x(),   //
+      -x.y(), x.x(), 0.0;
+  return X;
+}
+
+/// vee: so(3) -> R^3, the inverse of hat. Reads the skew part (X - X^T)/2, so it is also the
+/// projection of a general 3x3 matrix onto so(3) followed by vee.
+inline Vec3 vee(const Mat3& X) {
+  return 0.5 * Vec3(X(2, 1) - X(1, 2), X(0, 2) - X(2, 0), X(1, 0) - X(0, 1));
+}
+
+/// Coefficients of Rodrigues' formula exp(hat w) = I + a hat(w) + b hat(w)^2, with
+/// a = sin(t)/t, b = (1 - cos t)/t^2, t = |w|. Taylor branch for t < 1e-4 (the next term is
+/// t^6/5040 < 1e-27).
+struct RodriguesCoefficients {
+  double a;
+  double b;
+};
+inline RodriguesCoefficients rodrigues(double theta) {
+  const double t2 = theta * theta;
+  if (theta < 1e-4) {
+    return {1.0 - t2 / 6.0 + t2 * t2 / 120.0, 0.5 - t2 / 24.0 + t2 * t2 / 720.0};
+  }
+  return {std::sin(theta) / theta, (1.0 - std::cos(theta)) / t2};
+}
+
+/// exp: so(3) -> SO(3) (Rodrigues).
+inline Mat3 exp(const Vec3& w) {
+  const auto [a, b] = rodrigues(w.norm());
+  const Mat3 W = hat(w);
+  return Mat3::Identity() + a * W + b * W * W;
+}
+
+/// log: SO(3) -> so(3), principal branch, |result| in [0, pi]. Precondition: R orthonormal
+/// with det +1 (to round-off).
+///
+/// The angle is atan2(|vee(R - R^T)|/2, (tr R - 1)/2), accurate over [0, pi]. Three branches:
+/// theta < 1e-4: w = vee(R - R^T)/2 * (1 + theta^2/6) (Taylor of theta/sin theta);
+/// pi - theta < 1e-3 (where sin theta loses digits): the axis comes from the symmetric part
+/// R + R^T = 2 cos(theta) I + 2(1 - cos theta) n n^T, its sign from the skew part;
+/// otherwise w = theta / (2 sin theta) vee(R - R^T).
+inline Vec3 log(const Mat3& R) {
+  const Vec3 s = vee(R);  // = sin(theta) n
+  const double sin_theta = s.norm();
+  const double cos_theta = std::clamp(0.5 * (R.trace() - 1.0), -1.0, 1.0);
+  const double theta = std::atan2(sin_theta, cos_theta);
+  if (theta < 1e-4) {
+    return (1.0 + theta * theta / 6.0) * s;
+  }
+  if (M_PI - theta < 1e-3) {
+    // n n^T = (R + R^T - 2 cos(theta) I) / (2 (1 - cos theta)); take the largest diagonal.
+    const Mat3 B = (0.5 * (R + R.transpose()) - cos_theta * Mat3::Identity()) / (1.0 - cos_theta);
+    Eigen::Index i = 0;
+    B.diagonal().maxCoeff(&i);
+    Vec3 n = B.col(i) / std::sqrt(B(i, i));
+    n.normalize();
+    if (n.dot(s) < 0.0) n = -n;
+    return theta * n;
+  }
+  return (theta / sin_theta) * s;
+}
+
+/// Right Jacobian Jr(w): exp(w + dw) = exp(w) exp(Jr(w) dw) + O(dw^2).
+/// Jr = I - b hat(w) + c hat(w)^2, b = (1 - cos t)/t^2, c = (t - sin t)/t^3.
+/// Taylor branch for t < 1e-3 (next term t^4/5040 ~ 2e-16 relative to 1/6).
+inline Mat3 right_jacobian(const Vec3& w) {
+  const double t = w.norm();
+  const double t2 = t * t;
+  double b, c;
+  if (t < 1e-3) {
+    b = 0.5 - t2 / 24.0 + t2 * t2 / 720.0;
+    c = 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0;
+  } else {
+    b = (1.0 - std::cos(t)) / t2;
+    c = (t - std::sin(t)) / (t2 * t);
+  }
+  const Mat3 W = hat(w);
+  return Mat3::Identity() - b * W + c * W * W;
+}
+
+/// Left Jacobian Jl(w) = Jr(-w): exp(w + dw) = exp(Jl(w) dw) exp(w) + O(dw^2).
+inline Mat3 left_jacobian(const Vec3& w) { return right_jacobian(-w); }
+
+/// Inverse right Jacobian: log(exp(w) exp(d)) = w + Jr^{-1}(w) d + O(d^2), for |w| < pi.
+/// Jr^{-1} = I + hat(w)/2 + e hat(w)^2, e = 1/t^2 - (1 + cos t)/(2 t sin t).
+/// Taylor branch for t < 1e-3: e = 1/12 + t^2/720 + t^4/30240.
+inline Mat3 right_jacobian_inverse(const Vec3& w) {
+  const double t = w.norm();
+  const double t2 = t * t;
+  const double e = (t < 1e-3) ? 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0
+                              : 1.0 / t2 - (1.0 + std::cos(t)) / (2.0 * t * std::sin(t));
+  const Mat3 W = hat(w);
+  return Mat3::Identity() + 0.5 * W + e * W * W;
+}
+
+/// Inverse left Jacobian, Jl^{-1}(w) = Jr^{-1}(-w).
+inline Mat3 left_jacobian_inverse(const Vec3& w) { return right_jacobian_inverse(-w); }
+
+/// Cayley map cay(f) = (I + hat f)(I - hat f)^{-1} = I + 2/(1 + |f|^2) (hat f + hat(f)^2).
+/// Orthonormal for every f; covers SO(3) except the rotations by pi.
+inline Mat3 cayley(const Vec3& f) {
+  const Mat3 Fh = hat(f);
+  return Mat3::Identity() + (2.0 / (1.0 + f.squaredNorm())) * (Fh + Fh * Fh);
+}
+
+/// Inverse Cayley map: f = vee(R - R^T) / (1 + tr R), i.e. tan(theta/2) n. Precondition:
+/// tr R > -1 (rotation angle below pi); the result grows without bound as theta -> pi.
+inline Vec3 cayley_inverse(const Mat3& R) { return (2.0 / (1.0 + R.trace())) * vee(R); }
+
+/// Orthogonality error ||R^T R - I||_F (Frobenius norm).
+inline double orthogonality_error(const Mat3& R) {
+  return (R.transpose() * R - Mat3::Identity()).norm();
+}
+
+/// Determinant error |det R - 1|.
+inline double determinant_error(const Mat3& R) { return std::abs(R.determinant() - 1.0); }
+
+/// True when R is a rotation to within tol: orthogonality and determinant errors below tol.
+inline bool is_rotation(const Mat3& R, double tol) {
+  return R.allFinite() && orthogonality_error(R) <= tol && determinant_error(R) <= tol;
+}
+
+/// Uniformly distributed random rotation (Haar measure): a normalized 4-vector of independent
+/// standard normals is a uniform unit quaternion.
+template <class Rng>
+Mat3 random_rotation(Rng& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));
+  q.normalize();
+  return q.toRotationMatrix();
+}
+
+}  // namespace lgvi::so3

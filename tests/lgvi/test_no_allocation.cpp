@@ -1,0 +1,64 @@
+// "No heap allocation inside a step": the global allocation functions of this test program
+// count calls, and whole integrations must not add to the count.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "lgvi_cases.hpp"
+
+namespace {
+std::atomic<std::size_t> allocations{0};
+}
+
+void* operator new(std::size_t size) {
+  ++allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace lgvi::test {
+namespace {
+
+template <class Lgvi, class State, class Control>
+std::size_t allocations_during(const Lgvi& lgvi, State s, Control control) {
+  const std::size_t before = allocations.load();
+  const Stats stats = integrate(lgvi, s, 0.0, 1e-3, 1000, control, null_observer());
+  const std::size_t after = allocations.load();
+  EXPECT_TRUE(stats.ok());
+  return after - before;
+}
+
+TEST(LgviAllocation, StepsAllocateNothing) {
+  const Pendulum3D pendulum = Pendulum3D::paper();
+  const AttitudeLgvi pendulum_lgvi(pendulum);
+  EXPECT_EQ(allocations_during(pendulum_lgvi, pendulum_lgvi.make_state(Mat3::Identity(), pendulum_Omega0()),
+                               pendulum_control),
+            0u);
+  const FreeRigidBody body = free_body();
+  const AttitudeLgvi body_lgvi(body);
+  EXPECT_EQ(allocations_during(body_lgvi, body_lgvi.make_state(free_body_R0(), free_body_Omega0()),
+                               free_body_control),
+            0u);
+  const DumbbellSpacecraft dumbbell = DumbbellSpacecraft::paper();
+  const DumbbellLgvi dumbbell_lgvi(dumbbell);
+  EXPECT_EQ(allocations_during(
+                dumbbell_lgvi,
+                dumbbell_lgvi.make_state(dumbbell_R0(), dumbbell_x0(), dumbbell_Omega0(), dumbbell_v0()),
+                dumbbell_control),
+            0u);
+}
+
+// The counter itself works (otherwise the test above could not fail).
+TEST(LgviAllocation, CounterSeesAllocations) {
+  const std::size_t before = allocations.load();
+  void* p = ::operator new(sizeof(double));  // a direct call: not elidable like a new-expression
+  ::operator delete(p);
+  EXPECT_GT(allocations.load(), before);
+}
+
+}  // namespace
+}  // namespace lgvi::test

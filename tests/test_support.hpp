@@ -1,0 +1,52 @@
+// Shared test support: the seeded random generator and the derived tolerances, in one place.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <iostream>
+#include <limits>
+#include <random>
+#include <string>
+
+namespace lgvi::test {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+/// Seed for every randomized test: LGVI_TEST_SEED overrides the default; the seed is printed
+/// so that a failure can be replayed.
+inline std::uint64_t test_seed() {
+  static const std::uint64_t seed = [] {
+    std::uint64_t s = 20261121;
+    if (const char* env = std::getenv("LGVI_TEST_SEED")) s = std::strtoull(env, nullptr, 10);
+    std::cout << "[ seed     ] LGVI_TEST_SEED=" << s << "\n";
+    return s;
+  }();
+  return seed;
+}
+inline std::mt19937_64 make_rng(std::uint64_t salt = 0) { return std::mt19937_64(test_seed() + salt); }
+
+// --- Derived tolerances ---------------------------------------------------------------------
+// Central finite differences with step a have truncation error O(a^2) and round-off
+// O(eps/a); a = eps^(1/3) ~ 6e-6 balances them at ~eps^(2/3) ~ 4e-11 relative. We assert
+// with a 1e3 safety factor for the constants (third derivatives of order 1..10).
+constexpr double kFdStep = 6.0554544523933395e-06;  // cbrt(eps)
+constexpr double kFdTolerance = 1e3 * 3.666852862501036e-11;  // 1e3 * eps^(2/3)
+
+/// Round-off of a quantity computed by O(n) floating-point operations of magnitude `scale`:
+/// a few eps per operation, counted generously as 16 n eps scale.
+inline double roundoff(double scale, double operations = 1.0) { return 16.0 * operations * kEps * scale; }
+
+/// Slope of the least-squares line through (log x_i, log y_i).
+template <class Vec>
+double loglog_slope(const Vec& x, const Vec& y) {
+  const std::size_t n = x.size();
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx; sy += ly; sxx += lx * lx; sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+}  // namespace lgvi::test
