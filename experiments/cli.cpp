@@ -1,1 +1,184 @@
-// The CLI lands in the next commit.
+#include "experiments/cli.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <iomanip>
+
+#include "experiments/atomic_file.hpp"
+#include "experiments/method.hpp"
+#include "experiments/plot.hpp"
+#include "experiments/scene.hpp"
+#include "experiments/simulate.hpp"
+#include "experiments/suite.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string one_line(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
+  for (char& c : s) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return s;
+}
+
+int report(std::ostream& err, const std::string& message, int code) {
+  err << "error: " << one_line(message) << "\n" << std::flush;
+  return code;
+}
+
+/// Parses --form, naming the option in the error.
+LgviForm parse_form_option(const std::string& text) {
+  try {
+    return parse_lgvi_form(text);
+  } catch (const InvalidInput&) {
+    throw InvalidInput("--form", "must be 'symmetric' or 'printed' (got '" + text + "')");
+  }
+}
+
+int list_scenes(const fs::path& scenes_dir, std::ostream& out) {
+  const std::vector<std::string> names = scene_names(scenes_dir);
+  if (names.empty()) throw SceneError(scenes_dir.string(), "", "no scene files (*.toml) in this directory");
+  std::size_t width = 0;
+  for (const std::string& n : names) width = std::max(width, n.size());
+  for (const std::string& n : names) {
+    const Scene scene = load_scene(scenes_dir / (n + ".toml"));
+    out << std::left << std::setw(static_cast<int>(width) + 2) << n << scene.description << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+std::string quote_command_line(int argc, const char* const* argv) {
+  std::string s;
+  for (int i = 0; i < argc; ++i) {
+    std::string a = argv[i];
+    const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                         "0123456789-_./=:,+@%") == std::string::npos;
+    if (!plain) {
+      std::string q = "'";
+      for (const char c : a) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+      a = q + "'";
+    }
+    s += (i > 0 ? " " : "") + a;
+  }
+  return s;
+}
+
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+  try {
+    CLI::App app{"lgvi-testbed: Lie group variational integrators (LGVI) for rigid bodies.\n"
+                 "Runs scenes (TOML files) with the LGVI, writes CSV results, JSON summaries and plots.",
+                 "lgvi-testbed"};
+    app.require_subcommand(1);
+    app.fallthrough();
+    app.set_version_flag("--version", std::string("lgvi-testbed ") + git_describe());
+    app.footer(
+        "Exit status: 0 success; 1 bad input (scene file or option; one 'error:' line on stderr);\n"
+        "2 a run stopped early (rotation update failed; the CSV of the completed steps is written);\n"
+        "3 results could not be written (file system, gnuplot).");
+    std::string scenes_dir = default_scenes_dir().string();
+    app.add_option("--scenes-dir", scenes_dir, "Directory of the named scenes (NAME.toml)")->capture_default_str();
+
+    CLI::App* scenes_cmd = app.add_subcommand("scenes", "List the named scenes (name and description)");
+
+    CLI::App* sim = app.add_subcommand("simulate", "Run one scene with the LGVI; write a CSV, print a summary line");
+    std::string scene_arg;
+    std::string csv_out;
+    double h = 0.0;
+    double t_final = 0.0;
+    std::string form;
+    std::int64_t every = 1;
+    sim->add_option("SCENE", scene_arg,
+                    "Scene name (see 'lgvi-testbed scenes') or path to a scene file (contains '/' or ends in .toml)")
+        ->required();
+    sim->add_option("--out", csv_out, "CSV file to write (default: SCENE_NAME.csv in the current directory)");
+    CLI::Option* h_opt = sim->add_option("--h", h, "Time step (replaces integration.h)");
+    CLI::Option* t_opt = sim->add_option("--t-final", t_final, "Horizon (replaces integration.t_final)");
+    CLI::Option* form_opt = sim->add_option("--form", form, "LGVI form: symmetric | printed (replaces integration.form)");
+    CLI::Option* every_opt =
+        sim->add_option("--every", every, "Write every K-th step to the CSV (replaces integration.output_every)");
+
+    CLI::App* suite_cmd = app.add_subcommand("suite", "Run a suite: CSV per case, summary.json, PNG plots");
+    std::string suite_name;
+    std::string suite_out;
+    std::string plots_dir = default_plots_dir().string();
+    std::string gnuplot = default_gnuplot();
+    bool no_plots = false;
+    std::string suite_help = "Suite name:";
+    for (const auto& [n, d] : suite_list()) suite_help += " '" + n + "' (" + d + ")";
+    suite_cmd->add_option("SUITE", suite_name, suite_help)->required();
+    suite_cmd->add_option("--out", suite_out, "Output directory (default: results/SUITE)");
+    suite_cmd->add_flag("--no-plots", no_plots, "Skip the gnuplot figures");
+    suite_cmd->add_option("--plots-dir", plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
+    suite_cmd->add_option("--gnuplot", gnuplot, "gnuplot executable")->capture_default_str();
+
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      if (e.get_exit_code() == 0) return app.exit(e, out, err);  // --help, --version
+      return report(err, std::string(e.what()) + " (see lgvi-testbed --help)", kExitBadInput);
+    }
+    const std::string command_line = quote_command_line(argc, argv);
+
+    if (scenes_cmd->parsed()) return list_scenes(scenes_dir, out);
+
+    if (sim->parsed()) {
+      SceneOverrides overrides;
+      if (h_opt->count() > 0) overrides.h = h;
+      if (t_opt->count() > 0) overrides.t_final = t_final;
+      if (form_opt->count() > 0) overrides.form = parse_form_option(form);
+      if (every_opt->count() > 0) overrides.output_every = every;
+      const Scene scene = load_scene(resolve_scene(scene_arg, scenes_dir), overrides);
+      const fs::path csv = csv_out.empty() ? fs::path(scene.name + ".csv") : fs::path(csv_out);
+      const std::unique_ptr<Method> method = make_method("lgvi");
+      const RunSummary summary = simulate(scene, *method, {csv, command_line});
+      if (!summary.stats.ok()) {
+        return report(err, scene.name + ": " + summary.stats.brief() + " (CSV of the completed steps: " +
+                               csv.string() + ")",
+                      kExitRunFailed);
+      }
+      out << summary.stats.brief() << "\n";
+      return kExitOk;
+    }
+
+    if (suite_cmd->parsed()) {
+      const Suite suite = make_suite(suite_name, scenes_dir);
+      SuiteOptions options;
+      options.out_dir = suite_out.empty() ? fs::path("results") / suite_name : fs::path(suite_out);
+      options.scenes_dir = scenes_dir;
+      options.plots_dir = plots_dir;
+      options.gnuplot = gnuplot;
+      options.plots = !no_plots;
+      options.command_line = command_line;
+      const SuiteResult result = run_suite(suite, options, out);
+      if (!result.all_ok()) {
+        std::size_t failed = 0;
+        for (const RunSummary& r : result.runs) failed += r.stats.ok() ? 0 : 1;
+        return report(err, "suite " + suite_name + ": " + std::to_string(failed) + " of " +
+                               std::to_string(result.runs.size()) + " runs stopped early (see summary.json)",
+                      kExitRunFailed);
+      }
+      return kExitOk;
+    }
+    return report(err, "no subcommand (see lgvi-testbed --help)", kExitBadInput);
+  } catch (const SceneError& e) {
+    return report(err, e.what(), kExitBadInput);
+  } catch (const InvalidInput& e) {
+    return report(err, e.what(), kExitBadInput);
+  } catch (const OutputError& e) {
+    return report(err, e.what(), kExitOutputError);
+  } catch (const std::exception& e) {
+    return report(err, std::string("internal error: ") + e.what(), kExitOutputError);
+  } catch (...) {
+    return report(err, "internal error: unknown exception", kExitOutputError);
+  }
+}
+
+}  // namespace lgvi::experiments

@@ -1,2 +1,3 @@
-// The CLI lands in the next commit.
-int main() { return 1; }
+#include "experiments/cli.hpp"
+
+int main(int argc, char** argv) { return lgvi::experiments::run_cli(argc, argv); }

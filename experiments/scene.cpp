@@ -1,1 +1,427 @@
-// The CLI lands in the next commit.
+#include "experiments/scene.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "lgvi/so3.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string join_message(const std::string& file, const std::string& field, const std::string& reason) {
+  std::string s;
+  for (const std::string* part : {&file, &field}) {
+    if (!part->empty()) s += *part + ": ";
+  }
+  return s + reason;
+}
+
+std::string format_number(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.12g", x);
+  return buf;
+}
+
+std::string join_key(const std::string& prefix, std::string_view key) {
+  return prefix.empty() ? std::string(key) : prefix + "." + std::string(key);
+}
+
+/// The reason part of an InvalidInput ("field: reason").
+std::string reason_of(const InvalidInput& e) {
+  const std::string what = e.what();
+  const std::string prefix = e.field() + ": ";
+  return what.compare(0, prefix.size(), prefix) == 0 ? what.substr(prefix.size()) : what;
+}
+
+const char* type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a float";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::date:
+    case toml::node_type::time:
+    case toml::node_type::date_time: return "a date/time";
+    case toml::node_type::none: break;
+  }
+  return "nothing";
+}
+
+std::string describe(const toml::node& n) {
+  if (const toml::array* a = n.as_array()) {
+    return "an array of " + std::to_string(a->size()) + (a->size() == 1 ? " element" : " elements");
+  }
+  return type_name(n);
+}
+
+/// Typed, validated access to the TOML tree; every failure is a SceneError naming the field.
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& reason) const {
+    throw SceneError(file_, field, reason);
+  }
+
+  /// Rejects keys outside `allowed`: typos must not silently fall back to defaults.
+  void check_keys(const toml::table& t, const std::string& prefix,
+                  std::initializer_list<std::string_view> allowed) const {
+    for (auto&& [key, node] : t) {
+      if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
+      std::string expected;
+      for (std::string_view a : allowed) expected += (expected.empty() ? "" : ", ") + std::string(a);
+      fail(join_key(prefix, key.str()), "unknown key (expected one of: " + expected + ")");
+    }
+  }
+
+  const toml::table* table(const toml::table& parent, std::string_view key, const std::string& prefix,
+                           bool required) const {
+    const std::string field = join_key(prefix, key);
+    const toml::node* n = parent.get(key);
+    if (n == nullptr) {
+      if (required) fail(field, "is required (a [" + field + "] table)");
+      return nullptr;
+    }
+    if (!n->is_table()) fail(field, std::string("must be a table (got ") + describe(*n) + ")");
+    return n->as_table();
+  }
+
+  const toml::node& required(const toml::table& t, std::string_view key, const std::string& prefix) const {
+    const toml::node* n = t.get(key);
+    if (n == nullptr) fail(join_key(prefix, key), "is required");
+    return *n;
+  }
+
+  double number(const toml::node& n, const std::string& field) const {
+    double v = 0.0;
+    if (const auto* f = n.as_floating_point()) {
+      v = f->get();
+    } else if (const auto* i = n.as_integer()) {
+      v = static_cast<double>(i->get());
+    } else {
+      fail(field, std::string("must be a number (got ") + describe(n) + ")");
+    }
+    if (!std::isfinite(v)) fail(field, "must be finite (got " + format_number(v) + ")");
+    return v;
+  }
+
+  std::int64_t integer(const toml::node& n, const std::string& field) const {
+    const auto* i = n.as_integer();
+    if (i == nullptr) fail(field, std::string("must be an integer (got ") + describe(n) + ")");
+    return i->get();
+  }
+
+  std::string string(const toml::node& n, const std::string& field) const {
+    const auto* s = n.as_string();
+    if (s == nullptr) fail(field, std::string("must be a string (got ") + describe(n) + ")");
+    return s->get();
+  }
+
+  Vec3 vec3(const toml::node& n, const std::string& field) const {
+    const toml::array* a = n.as_array();
+    if (a == nullptr || a->size() != 3) fail(field, "must be an array of 3 numbers (got " + describe(n) + ")");
+    Vec3 v;
+    for (int i = 0; i < 3; ++i) v(i) = number(*a->get(i), field + "[" + std::to_string(i) + "]");
+    return v;
+  }
+
+  /// A 3x3 matrix written as an array of its 3 rows.
+  Mat3 mat3(const toml::node& n, const std::string& field) const {
+    const toml::array* a = n.as_array();
+    const auto shape_error = [&](const toml::node& got) {
+      fail(field, "must be a 3x3 array of arrays (3 rows of 3 numbers; got " + describe(got) + ")");
+    };
+    if (a == nullptr || a->size() != 3) shape_error(n);
+    Mat3 m;
+    for (int r = 0; r < 3; ++r) {
+      const toml::node& row = *a->get(r);
+      const toml::array* ra = row.as_array();
+      if (ra == nullptr || ra->size() != 3) {
+        fail(field, "must be a 3x3 array of arrays (row " + std::to_string(r) + " is " + describe(row) + ")");
+      }
+      for (int c = 0; c < 3; ++c) {
+        m(r, c) = number(*ra->get(c), field + "[" + std::to_string(r) + "][" + std::to_string(c) + "]");
+      }
+    }
+    return m;
+  }
+
+  /// Inertia: principal moments [J1, J2, J3] (J = diag) or the full 3x3 matrix.
+  Mat3 inertia(const toml::node& n, const std::string& field) const {
+    const toml::array* a = n.as_array();
+    if (a != nullptr && a->size() == 3 && !a->get(0)->is_array()) return vec3(n, field).asDiagonal();
+    if (a != nullptr && a->size() == 3) return mat3(n, field);
+    fail(field, "must be the principal moments [J1, J2, J3] or a 3x3 array of arrays (got " + describe(n) + ")");
+  }
+
+  Sinusoid sinusoid(const toml::table& t, const std::string& prefix) const {
+    Sinusoid s;
+    s.amplitude = vec3(required(t, "amplitude", prefix), prefix + ".amplitude");
+    s.frequency = vec3(required(t, "frequency", prefix), prefix + ".frequency");
+    if (const toml::node* p = t.get("phase")) s.phase = vec3(*p, prefix + ".phase");
+    return s;
+  }
+
+  /// Runs a physics constructor/validator, re-raising its InvalidInput with `prefix` + field.
+  template <class F>
+  auto physics(const std::string& prefix, F&& f) const {
+    try {
+      return f();
+    } catch (const InvalidInput& e) {
+      fail(prefix + e.field(), reason_of(e));
+    }
+  }
+
+ private:
+  std::string file_;
+};
+
+constexpr std::array<std::string_view, 3> kSystems = {"free-body", "pendulum", "dumbbell"};
+
+/// make_state's field names ("R0") in scene-file terms ("initial.R").
+std::string initial_field(const std::string& field) {
+  if (field == "R0") return "initial.R";
+  if (field == "Omega0") return "initial.Omega";
+  if (field == "x0") return "initial.x";
+  if (field == "v0") return "initial.v";
+  return "initial." + field;
+}
+
+template <class Integrator, class... Args>
+void validate_initial_state(const Reader& reader, const Integrator& lgvi, const Args&... args) {
+  try {
+    (void)lgvi.make_state(args...);
+  } catch (const InvalidInput& e) {
+    reader.fail(initial_field(e.field()), reason_of(e));
+  }
+}
+
+Model read_model(const Reader& r, const std::string& system, const toml::table& parameters,
+                 const toml::table& initial, const toml::table* control) {
+  const auto attitude_initial = [&] {
+    AttitudeInitial init;
+    if (const toml::node* R = initial.get("R")) init.R = r.mat3(*R, "initial.R");
+    init.Omega = r.vec3(r.required(initial, "Omega", "initial"), "initial.Omega");
+    return init;
+  };
+  if (system == "free-body") {
+    const Mat3 J = r.inertia(r.required(parameters, "inertia", "parameters"), "parameters.inertia");
+    FreeBodyModel m{r.physics("parameters.", [&] { return FreeRigidBody(J); }), attitude_initial(), {}};
+    if (control != nullptr) m.control = r.sinusoid(*control, "control");
+    validate_initial_state(r, AttitudeLgvi<FreeRigidBody>(m.system), m.initial.R, m.initial.Omega);
+    return m;
+  }
+  if (system == "pendulum") {
+    const double mass = r.number(r.required(parameters, "mass", "parameters"), "parameters.mass");
+    const Mat3 J = r.inertia(r.required(parameters, "inertia", "parameters"), "parameters.inertia");
+    const Vec3 rho = r.vec3(r.required(parameters, "rho", "parameters"), "parameters.rho");
+    const double g = r.number(r.required(parameters, "gravity", "parameters"), "parameters.gravity");
+    PendulumModel m{r.physics("parameters.", [&] { return Pendulum3D(mass, J, rho, g); }),
+                    attitude_initial(), {}};
+    if (control != nullptr) m.control = r.sinusoid(*control, "control");
+    validate_initial_state(r, AttitudeLgvi<Pendulum3D>(m.system), m.initial.R, m.initial.Omega);
+    return m;
+  }
+  // dumbbell
+  const double mass = r.number(r.required(parameters, "mass", "parameters"), "parameters.mass");
+  const double mu = r.number(r.required(parameters, "mu", "parameters"), "parameters.mu");
+  const Vec3 rho = r.vec3(r.required(parameters, "rho", "parameters"), "parameters.rho");
+  const double radius =
+      r.number(r.required(parameters, "sphere_radius", "parameters"), "parameters.sphere_radius");
+  RigidBodyInitial init;
+  if (const toml::node* R = initial.get("R")) init.R = r.mat3(*R, "initial.R");
+  init.Omega = r.vec3(r.required(initial, "Omega", "initial"), "initial.Omega");
+  init.x = r.vec3(r.required(initial, "x", "initial"), "initial.x");
+  init.v = r.vec3(r.required(initial, "v", "initial"), "initial.v");
+  DumbbellModel m{r.physics("parameters.", [&] { return DumbbellSpacecraft(mass, mu, rho, radius); }),
+                  init, {}, {}};
+  if (control != nullptr) {
+    if (const toml::table* f = r.table(*control, "force", "control", false)) {
+      m.force_control = r.sinusoid(*f, "control.force");
+    }
+    if (const toml::table* mo = r.table(*control, "moment", "control", false)) {
+      m.moment_control = r.sinusoid(*mo, "control.moment");
+    }
+  }
+  validate_initial_state(r, DumbbellLgvi(m.system), init.R, init.x, init.Omega, init.v);
+  return m;
+}
+
+}  // namespace
+
+SceneError::SceneError(std::string file, std::string field, std::string reason)
+    : std::runtime_error(join_message(file, field, reason)),
+      file_(std::move(file)),
+      field_(std::move(field)),
+      reason_(std::move(reason)) {}
+
+Vec3 Sinusoid::operator()(double t) const {
+  const Eigen::Array3d angle = 2.0 * M_PI * t * frequency.array() + phase.array();
+  return amplitude.cwiseProduct(angle.sin().matrix());
+}
+
+const char* system_name(const Model& model) {
+  return std::visit([](const auto& m) { return std::decay_t<decltype(m)>::name; }, model);
+}
+
+Horizon make_horizon(double h, double t_final, std::int64_t output_every) {
+  require_positive(h, "h");
+  require_positive(t_final, "t_final");
+  const double n = t_final / h;
+  constexpr double kMaxSteps = 1e12;
+  if (!(n <= kMaxSteps)) {
+    throw InvalidInput("t_final", "needs too many steps (t_final / h = " + format_number(n) +
+                                      ", limit " + format_number(kMaxSteps) + ")");
+  }
+  const double steps = std::round(n);
+  if (steps < 1.0) {
+    throw InvalidInput("t_final", "is shorter than one step (t_final = " + format_number(t_final) +
+                                      ", h = " + format_number(h) + ")");
+  }
+  if (std::abs(steps * h - t_final) > 1e-9 * t_final) {
+    throw InvalidInput("t_final", "is not a whole number of steps of h = " + format_number(h) +
+                                      " (t_final / h = " + format_number(n) + ")");
+  }
+  if (output_every < 1) {
+    throw InvalidInput("output_every", "must be an integer >= 1 (got " + std::to_string(output_every) + ")");
+  }
+  Horizon horizon;
+  horizon.h = h;
+  horizon.t_final = t_final;
+  horizon.steps = static_cast<std::size_t>(steps);
+  horizon.output_every = static_cast<std::size_t>(output_every);
+  return horizon;
+}
+
+Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneOverrides& overrides) {
+  const std::string file_name = file.string();
+  const Reader r(file_name);
+  toml::table doc;
+  try {
+    doc = toml::parse(toml_text, std::string_view(file_name));
+  } catch (const toml::parse_error& e) {
+    const auto& begin = e.source().begin;
+    r.fail("line " + std::to_string(begin.line) + ", column " + std::to_string(begin.column),
+           std::string(e.description()));
+  }
+
+  // Unknown keys first, everywhere: a misspelt key is the likeliest cause of a missing one.
+  r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control"});
+  const std::string system = r.string(r.required(doc, "system", ""), "system");
+  if (std::find(kSystems.begin(), kSystems.end(), system) == kSystems.end()) {
+    r.fail("system", "unknown system '" + system + "' (expected one of: free-body, pendulum, dumbbell)");
+  }
+  const toml::table* parameters = r.table(doc, "parameters", "", true);
+  const toml::table* initial = r.table(doc, "initial", "", true);
+  const toml::table* integration = r.table(doc, "integration", "", true);
+  const toml::table* control = r.table(doc, "control", "", false);
+  if (system == "free-body") r.check_keys(*parameters, "parameters", {"inertia"});
+  if (system == "pendulum") r.check_keys(*parameters, "parameters", {"mass", "inertia", "rho", "gravity"});
+  if (system == "dumbbell") r.check_keys(*parameters, "parameters", {"mass", "mu", "rho", "sphere_radius"});
+  if (system == "dumbbell") {
+    r.check_keys(*initial, "initial", {"R", "Omega", "x", "v"});
+  } else {
+    r.check_keys(*initial, "initial", {"R", "Omega"});
+  }
+  r.check_keys(*integration, "integration", {"h", "t_final", "form", "output_every"});
+  if (control != nullptr) {
+    if (system == "dumbbell") {
+      r.check_keys(*control, "control", {"force", "moment"});
+      for (const char* key : {"force", "moment"}) {
+        if (const toml::table* sub = r.table(*control, key, "control", false)) {
+          r.check_keys(*sub, std::string("control.") + key, {"amplitude", "frequency", "phase"});
+        }
+      }
+    } else {
+      r.check_keys(*control, "control", {"amplitude", "frequency", "phase"});
+    }
+  }
+
+  Scene scene{file.stem().string(), file, "", read_model(r, system, *parameters, *initial, control), Horizon{},
+              LgviForm::Symmetric};
+  if (const toml::node* d = doc.get("description")) scene.description = r.string(*d, "description");
+
+  // [integration], with the command-line overrides named in messages.
+  double h = r.number(r.required(*integration, "h", "integration"), "integration.h");
+  double t_final = r.number(r.required(*integration, "t_final", "integration"), "integration.t_final");
+  std::int64_t every = 1;
+  if (const toml::node* e = integration->get("output_every")) every = r.integer(*e, "integration.output_every");
+  if (const toml::node* f = integration->get("form")) {
+    const std::string form = r.string(*f, "integration.form");
+    scene.form = r.physics("integration.", [&] { return parse_lgvi_form(form); });
+  }
+  if (overrides.h) h = *overrides.h;
+  if (overrides.t_final) t_final = *overrides.t_final;
+  if (overrides.output_every) every = *overrides.output_every;
+  if (overrides.form) scene.form = *overrides.form;
+  try {
+    scene.horizon = make_horizon(h, t_final, every);
+  } catch (const InvalidInput& e) {
+    std::vector<std::string> notes;  // which values came from the command line
+    if (e.field() == "h" && overrides.h) notes.push_back("--h");
+    if (e.field() == "t_final" && overrides.t_final) notes.push_back("--t-final");
+    if (e.field() == "t_final" && overrides.h) notes.push_back("h from --h");
+    if (e.field() == "output_every" && overrides.output_every) notes.push_back("--every");
+    std::string field = "integration." + e.field();
+    for (std::size_t i = 0; i < notes.size(); ++i) field += (i == 0 ? " (" : ", ") + notes[i];
+    if (!notes.empty()) field += ")";
+    r.fail(field, reason_of(e));
+  }
+  return scene;
+}
+
+Scene load_scene(const fs::path& file, const SceneOverrides& overrides) {
+  std::ifstream in(file, std::ios::binary);
+  std::error_code ec;
+  if (!in || fs::is_directory(file, ec)) {
+    const int err = errno;
+    throw SceneError(file.string(), "", std::string("cannot read the scene file: ") +
+                                            (fs::is_directory(file, ec) ? "is a directory" : std::strerror(err)));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scene(text.str(), file, overrides);
+}
+
+fs::path default_scenes_dir() { return fs::path(LGVI_SOURCE_DIR) / "experiments" / "scenes"; }
+
+std::vector<std::string> scene_names(const fs::path& scenes_dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (fs::directory_iterator it(scenes_dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->path().extension() == ".toml" && it->is_regular_file(ec)) names.push_back(it->path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+fs::path resolve_scene(const std::string& name_or_path, const fs::path& scenes_dir) {
+  const bool is_path = name_or_path.find('/') != std::string::npos ||
+                       (name_or_path.size() > 5 && name_or_path.ends_with(".toml"));
+  if (is_path) return name_or_path;
+  const fs::path file = scenes_dir / (name_or_path + ".toml");
+  std::error_code ec;
+  if (!name_or_path.empty() && fs::is_regular_file(file, ec)) return file;
+  std::string known;
+  for (const std::string& n : scene_names(scenes_dir)) known += (known.empty() ? "" : ", ") + n;
+  throw SceneError(name_or_path, "",
+                   "unknown scene; known scenes: " + (known.empty() ? std::string("(none)") : known) +
+                       " (in " + scenes_dir.string() + "); or give the path of a .toml file");
+}
+
+}  // namespace lgvi::experiments

@@ -1,1 +1,98 @@
-// The CLI lands in the next commit.
+#include "experiments/simulate.hpp"
+
+#include "experiments/csv_writer.hpp"
+
+namespace lgvi::experiments {
+
+namespace {
+
+std::int64_t as_int(std::size_t n) { return static_cast<std::int64_t>(n); }
+
+/// A file inside the source tree as a path relative to it ("experiments/scenes/pendulum.toml"),
+/// so that committed results carry no machine-specific paths; other files as given.
+std::string source_relative(const std::filesystem::path& file) {
+  std::error_code ec1, ec2;
+  const auto abs = std::filesystem::weakly_canonical(file, ec1);
+  const auto src = std::filesystem::weakly_canonical(LGVI_SOURCE_DIR, ec2);
+  if (ec1 || ec2) return file.string();
+  const auto rel = abs.lexically_relative(src);
+  if (rel.empty() || *rel.begin() == "..") return file.string();
+  return rel.string();
+}
+
+}  // namespace
+
+Fields RunSummary::to_fields() const {
+  const Diagnostics& d = diagnostics;
+  Fields f = {{"scene", scene}, {"system", system}, {"method", method}};
+  f.insert(f.end(), method_settings.begin(), method_settings.end());
+  const Fields rest = {
+      {"h", horizon.h},
+      {"steps", as_int(stats.steps)},
+      {"steps_requested", as_int(horizon.steps)},
+      {"t_final", horizon.t_final},
+      {"output_every", as_int(horizon.output_every)},
+      {"status", std::string(to_string(stats.status))},
+      {"status_detail", stats.brief()},
+      {"wall_seconds", stats.wall_seconds},
+      {"recording_seconds", recording_seconds},
+      {"newton_iterations", as_int(stats.newton_iterations)},
+      {"max_newton_iterations", std::int64_t{stats.max_newton_iterations}},
+      {"fallbacks", as_int(stats.fallbacks)},
+      {"potential_evaluations", as_int(stats.potential_evaluations)},
+      {"max_rotation_residual", stats.max_rotation_residual},
+      {"energy0", d.energy0},
+      {"max_energy_error", d.max_energy_error()},
+      {"energy_error_normalization",
+       std::string(d.energy_error_is_relative() ? "relative to |E0|" : "absolute (E0 = 0)")},
+      {"max_abs_energy_error", d.max_abs_energy_error},
+      {"max_orthogonality_error", d.max_orthogonality_error},
+      {"max_determinant_error", d.max_determinant_error},
+      {"momentum_map", momentum_map},
+      {"momentum0_norm", d.momentum0_norm},
+      {"max_momentum_drift", d.max_momentum_error},
+      {"csv", csv.filename().string()},
+      {"csv_rows", as_int(csv_rows)},
+  };
+  f.insert(f.end(), rest.begin(), rest.end());
+  return f;
+}
+
+RunSummary simulate(const Scene& scene, const Method& method, const SimulateOptions& options) {
+  CsvWriter csv(options.csv, Recorder::columns(scene.model));
+  Recorder recorder(scene.model, scene.horizon.output_every, &csv);
+  const Stats stats = method.run(scene, recorder);
+  recorder.finish();
+
+  RunSummary s;
+  s.scene = scene.name;
+  s.system = scene.system();
+  s.method = method.name();
+  s.method_settings = method.settings(scene);
+  s.horizon = scene.horizon;
+  s.stats = stats;
+  s.diagnostics = recorder.diagnostics();
+  s.momentum_map = momentum_map(scene.model).description;
+  s.recording_seconds = recorder.seconds();
+  s.csv = options.csv;
+  s.csv_rows = csv.rows();
+
+  Fields metadata = {{"scene", scene.name},
+                     {"scene_file", source_relative(scene.file)},
+                     {"system", s.system},
+                     {"method", s.method}};
+  metadata.insert(metadata.end(), s.method_settings.begin(), s.method_settings.end());
+  const Fields rest = {{"h", scene.horizon.h},
+                       {"steps", as_int(scene.horizon.steps)},
+                       {"t_final", scene.horizon.t_final},
+                       {"output_every", as_int(scene.horizon.output_every)},
+                       {"momentum_map", s.momentum_map},
+                       {"git_describe", std::string(git_describe())},
+                       {"command_line", options.command_line},
+                       {"status", stats.brief()}};
+  metadata.insert(metadata.end(), rest.begin(), rest.end());
+  csv.commit(metadata);
+  return s;
+}
+
+}  // namespace lgvi::experiments

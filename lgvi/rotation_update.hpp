@@ -13,8 +13,10 @@
 //   Exponential:  a = sin(t)/t, b = (1 - cos t)/t^2, t = |f|, f = theta n.
 // Newton's method with the analytic Jacobian of H (or G), from the linearized warm start
 // J f = h p (exponential) or J f = h p / 2 (Cayley). Converged when
-// |G(f)| <= relative_tolerance |h p| + absolute_tolerance. If the primary parametrization
-// fails, the other one is tried from its own warm start.
+// |G(f)| <= relative_tolerance (|h p| + ||J||_F (a |f| + b |f|^2)) + absolute_tolerance, i.e.
+// relative to the size of the terms of G (a |f| + b |f|^2 = sin(theta) + 1 - cos(theta) in both
+// charts), which is the round-off floor of evaluating G. If the primary parametrization fails,
+// the other one is tried from its own warm start.
 //
 // A solution exists only for |h p| <= max_F |vee(F J_d - J_d F^T)| <= sqrt(2) ||J_d||_F; beyond
 // that bound the solver reports OutsideDomain without iterating.
@@ -40,8 +42,12 @@ const char* to_string(RotationUpdateStatus s);
 struct RotationUpdateOptions {
   Parametrization primary = Parametrization::Cayley;
   bool fallback = true;  ///< try the other parametrization when the primary fails
-  /// 4 eps: the evaluation of G itself is accurate to a few eps |h p|.
-  double relative_tolerance = 4.0 * 2.220446049250313e-16;
+  /// 16 eps, relative to the size of G's terms |h p| + ||J||_F (a |f| + b |f|^2) (see the
+  /// convergence test above). Evaluating G costs <= 8 unit round-offs (4 eps) of that size (the
+  /// 3-term products of J f, the cross product, the scalings and sums); near the root Newton's
+  /// computed residual is the previous step's evaluation error plus the current one, so it
+  /// settles at <= 8 eps and may oscillate there (observed: +-5.5 eps). 16 eps leaves a factor 2.
+  double relative_tolerance = 16.0 * 2.220446049250313e-16;
   double absolute_tolerance = 1e-300;
   int max_iterations = 30;  ///< per parametrization
 };
@@ -51,6 +57,7 @@ struct RotationUpdateSummary {
   Parametrization parametrization = Parametrization::Cayley;  ///< the one that produced F
   int iterations = 0;          ///< Newton iterations over all attempts
   bool used_fallback = false;
+  bool polished = false;       ///< the last of `iterations` was the optional polishing step
   double residual = 0.0;       ///< |G(f)| / |h p| at return (absolute when h p = 0)
   double rhs_norm = 0.0;       ///< |h p|
 

@@ -35,6 +35,11 @@ inline Vec3 vee(const Mat3& X) {
 /// Coefficients of Rodrigues' formula exp(hat w) = I + a hat(w) + b hat(w)^2, with
 /// a = sin(t)/t, b = (1 - cos t)/t^2, t = |w|. Taylor branch for t < 1e-4 (the next term is
 /// t^6/5040 < 1e-27).
+/// b is evaluated in the half-angle form 2 sin^2(t/2) / t^2: 1 - cos t cancels to a relative
+/// error eps / t^2 (1e-10 at t = 1e-3). In exp that is harmless (b hat(w)^2 = O(t^2)), but the
+/// rotation update's G = a J f + b f x J f - h p has size ~|J f| = O(t), where the cancellation
+/// leaves an error ~eps ||J||, i.e. eps / t relative: its exponential chart stalled above the
+/// convergence tolerance for t in ~(1e-4, 1e-2).
 struct RodriguesCoefficients {
   double a;
   double b;
@@ -44,7 +49,8 @@ inline RodriguesCoefficients rodrigues(double theta) {
   if (theta < 1e-4) {
     return {1.0 - t2 / 6.0 + t2 * t2 / 120.0, 0.5 - t2 / 24.0 + t2 * t2 / 720.0};
   }
-  return {std::sin(theta) / theta, (1.0 - std::cos(theta)) / t2};
+  const double half_sinc = std::sin(0.5 * theta) / (0.5 * theta);
+  return {std::sin(theta) / theta, 0.5 * half_sinc * half_sinc};
 }
 
 /// exp: so(3) -> SO(3) (Rodrigues).
@@ -59,9 +65,13 @@ inline Mat3 exp(const Vec3& w) {
 ///
 /// The angle is atan2(|vee(R - R^T)|/2, (tr R - 1)/2), accurate over [0, pi]. Three branches:
 /// theta < 1e-4: w = vee(R - R^T)/2 * (1 + theta^2/6) (Taylor of theta/sin theta);
-/// pi - theta < 1e-3 (where sin theta loses digits): the axis comes from the symmetric part
+/// theta > pi/2 (cos theta < 0): the axis comes from the symmetric part
 /// R + R^T = 2 cos(theta) I + 2(1 - cos theta) n n^T, its sign from the skew part;
 /// otherwise w = theta / (2 sin theta) vee(R - R^T).
+/// Why pi/2: the skew-part axis n = vee(R - R^T) / (2 sin theta) carries an error
+/// ~eps / sin theta, i.e. ~eps/(pi - theta) near pi (2400 eps at pi - 1e-3), whereas the
+/// symmetric-part axis divides by 1 - cos theta >= 1 there and stays at a few eps. Switching at
+/// pi/2 bounds the amplification by theta / sin theta <= pi/2 on the skew branch.
 inline Vec3 log(const Mat3& R) {
   const Vec3 s = vee(R);  // = sin(theta) n
   const double sin_theta = s.norm();
@@ -70,7 +80,7 @@ inline Vec3 log(const Mat3& R) {
   if (theta < 1e-4) {
     return (1.0 + theta * theta / 6.0) * s;
   }
-  if (M_PI - theta < 1e-3) {
+  if (cos_theta < 0.0) {
     // n n^T = (R + R^T - 2 cos(theta) I) / (2 (1 - cos theta)); take the largest diagonal.
     const Mat3 B = (0.5 * (R + R.transpose()) - cos_theta * Mat3::Identity()) / (1.0 - cos_theta);
     Eigen::Index i = 0;
@@ -94,7 +104,11 @@ inline Mat3 right_jacobian(const Vec3& w) {
     b = 0.5 - t2 / 24.0 + t2 * t2 / 720.0;
     c = 1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0;
   } else {
-    b = (1.0 - std::cos(t)) / t2;
+    // b in the half-angle form 2 sin^2(t/2) / t^2: (1 - cos t) / t^2 cancels to a relative error
+    // eps / t^2, which hat(w) (size t) turns into ~eps / t in Jr (165 eps just above 1e-3).
+    // c's cancellation (6 eps / t^2 relative) is harmless: it multiplies hat(w)^2 (size t^2).
+    const double s = std::sin(0.5 * t) / (0.5 * t);
+    b = 0.5 * s * s;
     c = (t - std::sin(t)) / (t2 * t);
   }
   const Mat3 W = hat(w);
@@ -106,12 +120,15 @@ inline Mat3 left_jacobian(const Vec3& w) { return right_jacobian(-w); }
 
 /// Inverse right Jacobian: log(exp(w) exp(d)) = w + Jr^{-1}(w) d + O(d^2), for |w| < pi.
 /// Jr^{-1} = I + hat(w)/2 + e hat(w)^2, e = 1/t^2 - (1 + cos t)/(2 t sin t).
+/// Evaluated as e = 1/t^2 - 1/(2 t tan(t/2)) (the same function): near pi, 1 + cos t cancels
+/// completely (relative error eps / (pi - t)^2; 7e-10 in Jr^{-1} at pi - 1e-9), while
+/// 1/tan(t/2) -> 0 stays accurate.
 /// Taylor branch for t < 1e-3: e = 1/12 + t^2/720 + t^4/30240.
 inline Mat3 right_jacobian_inverse(const Vec3& w) {
   const double t = w.norm();
   const double t2 = t * t;
   const double e = (t < 1e-3) ? 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0
-                              : 1.0 / t2 - (1.0 + std::cos(t)) / (2.0 * t * std::sin(t));
+                              : 1.0 / t2 - 1.0 / (2.0 * t * std::tan(0.5 * t));
   const Mat3 W = hat(w);
   return Mat3::Identity() + 0.5 * W + e * W * W;
 }

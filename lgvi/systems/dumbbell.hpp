@@ -14,7 +14,8 @@
 //  - rho = (0.15, 0, 0), spheres along body e1, which R_0 points along-track. Then the circular
 //    speed of the mass centre at radius 1 is (1 + l^2)^(-3/4) = 0.98345 for l = 0.15, the
 //    paper's 0.9835 (the orbit normal e3 gives the same speed; along-track was chosen because
-//    the paper's Omega_0 = (0, 0, 0.9835) then keeps the rod along-track: a relative equilibrium).
+//    the paper's Omega_0 = (0, 0, 0.9835) then keeps the rod along-track: a relative equilibrium,
+//    unstable under the gravity gradient, so an uncontrolled run leaves it within about an orbit).
 //  - sphere radius 0.05 (solid spheres, own inertia (2/5)(m/2) r^2 each) so that J is positive
 //    definite: J = m l^2 (I - e1 e1^T) + (2/5) m r^2 I.
 #pragma once

@@ -1,0 +1,69 @@
+// Atomic output: every results file is written under a temporary name in the target's directory
+// and renamed onto the target only when complete (rename(2) is atomic within a file system).
+// If anything fails, or the owner is destroyed without commit(), the temporary is removed, so
+// no half-written (or empty) results file is ever left behind.
+#pragma once
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace lgvi::experiments {
+
+/// A results file could not be written (disk, permissions, missing directory, gnuplot failure).
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A unique temporary path next to `target`: "<dir>/.<name>.tmp-<pid>-<n><extension>".
+/// The file (if any was created there) is removed by the destructor unless commit() renamed it.
+class TempPath {
+ public:
+  explicit TempPath(std::filesystem::path target);
+  ~TempPath();
+  TempPath(const TempPath&) = delete;
+  TempPath& operator=(const TempPath&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  const std::filesystem::path& target() const { return target_; }
+  bool committed() const { return committed_; }
+  /// Renames the temporary onto the target. Throws OutputError.
+  void commit();
+
+ private:
+  std::filesystem::path target_;
+  std::filesystem::path path_;
+  bool committed_ = false;
+};
+
+/// A file written through a temporary and published by commit().
+class AtomicFile {
+ public:
+  /// Creates the temporary (exclusively). Throws OutputError naming the target.
+  explicit AtomicFile(std::filesystem::path target);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::FILE* stream() { return file_; }
+  void write(std::string_view text);
+  /// Flushes and checks for write errors (throws OutputError); the file stays open.
+  void flush();
+  /// Flushes, closes and renames onto the target. Throws OutputError; the temporary is then
+  /// removed by the destructor.
+  void commit();
+  /// Closes and removes the temporary without publishing it.
+  void discard();
+  const std::filesystem::path& temp_path() const { return temp_.path(); }
+  const std::filesystem::path& target() const { return temp_.target(); }
+
+ private:
+  void close();
+  TempPath temp_;
+  std::FILE* file_ = nullptr;
+};
+
+}  // namespace lgvi::experiments

@@ -1,0 +1,25 @@
+// The lgvi-testbed command line: `scenes`, `simulate`, `suite`.
+#pragma once
+
+#include <iostream>
+#include <string>
+
+namespace lgvi::experiments {
+
+/// Exit status of lgvi-testbed.
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitBadInput = 1,    ///< bad scene file or option: one "error: ..." line on stderr
+  kExitRunFailed = 2,   ///< a run stopped early (rotation update failed); its CSV is written
+  kExitOutputError = 3, ///< results could not be written (file system, gnuplot) or internal error
+};
+
+/// Parses the arguments and runs the subcommand. Never throws: every error becomes exactly one
+/// line "error: ..." on `err` and a non-zero exit code. Results go to files; progress and
+/// one-line summaries to `out`.
+int run_cli(int argc, const char* const* argv, std::ostream& out = std::cout, std::ostream& err = std::cerr);
+
+/// The command line as one shell-quoted string (recorded in output metadata).
+std::string quote_command_line(int argc, const char* const* argv);
+
+}  // namespace lgvi::experiments

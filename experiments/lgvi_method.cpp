@@ -1,0 +1,82 @@
+// The LGVI as a Method: AttitudeLgvi<System> for the free body and the pendulum, DumbbellLgvi
+// for the dumbbell, in the scene's form (symmetric or printed).
+#include <type_traits>
+
+#include "experiments/method.hpp"
+#include "lgvi/lgvi.hpp"
+
+namespace lgvi::experiments {
+
+namespace {
+
+class LgviMethod final : public Method {
+ public:
+  std::string name() const override { return "lgvi"; }
+
+  Fields settings(const Scene& scene) const override {
+    return {{"form", std::string(to_string(scene.form))},
+            {"rotation_update_tolerance", options_.relative_tolerance}};
+  }
+
+  Stats run(const Scene& scene, Recorder& recorder) const override {
+    return std::visit([&](const auto& model) { return run_model(scene, model, recorder); }, scene.model);
+  }
+
+ private:
+  template <class Model>
+  Stats run_model(const Scene& scene, const Model& m, Recorder& recorder) const {
+    const Horizon& hz = scene.horizon;
+    if constexpr (std::is_same_v<Model, DumbbellModel>) {
+      const DumbbellLgvi lgvi(m.system, scene.form, options_);
+      RigidBodyState state = lgvi.make_state(m.initial.R, m.initial.x, m.initial.Omega, m.initial.v);
+      const auto control = [&m](double t) {
+        DumbbellSpacecraft::Control u;
+        if (m.force_control) u.force = (*m.force_control)(t);
+        if (m.moment_control) u.moment = (*m.moment_control)(t);
+        return u;
+      };
+      Sample sample;
+      const auto observer = [&](std::size_t k, double t, const RigidBodyState& s, const RotationUpdateSummary& r) {
+        sample.t = t;
+        sample.R = s.R;
+        sample.Omega = lgvi.omega(s);
+        sample.x = s.x;
+        sample.v = s.v;
+        sample.newton_iterations = r.iterations;
+        recorder.record(k, sample);
+        return true;
+      };
+      return integrate(lgvi, state, 0.0, hz.h, hz.steps, control, observer);
+    } else {
+      using System = std::decay_t<decltype(m.system)>;
+      const AttitudeLgvi<System> lgvi(m.system, scene.form, options_);
+      AttitudeState state = lgvi.make_state(m.initial.R, m.initial.Omega);
+      const auto control = [&m](double t) -> Vec3 { return m.control ? (*m.control)(t) : Vec3::Zero(); };
+      Sample sample;
+      const auto observer = [&](std::size_t k, double t, const AttitudeState& s, const RotationUpdateSummary& r) {
+        sample.t = t;
+        sample.R = s.R;
+        sample.Omega = lgvi.omega(s);
+        sample.newton_iterations = r.iterations;
+        recorder.record(k, sample);
+        return true;
+      };
+      return integrate(lgvi, state, 0.0, hz.h, hz.steps, control, observer);
+    }
+  }
+
+  RotationUpdateOptions options_;
+};
+
+}  // namespace
+
+std::vector<std::string> method_names() { return {"lgvi"}; }
+
+std::unique_ptr<Method> make_method(const std::string& name) {
+  if (name == "lgvi") return std::make_unique<LgviMethod>();
+  std::string known;
+  for (const std::string& n : method_names()) known += (known.empty() ? "" : ", ") + n;
+  throw InvalidInput("method", "unknown method '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace lgvi::experiments

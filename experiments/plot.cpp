@@ -1,0 +1,78 @@
+#include "experiments/plot.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+
+#include "experiments/atomic_file.hpp"
+
+extern char** environ;
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+fs::path default_plots_dir() { return fs::path(LGVI_SOURCE_DIR) / "experiments" / "plots"; }
+std::string default_gnuplot() { return LGVI_GNUPLOT; }
+
+namespace {
+
+std::string first_line(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  // gnuplot echoes the offending script line before the message; keep the first non-blank one
+  // that says something ("line N: ...") when there is one.
+  std::string first;
+  while (std::getline(in, line)) {
+    if (line.find_first_not_of(" \t^") == std::string::npos) continue;
+    if (first.empty()) first = line;
+    if (line.find("line ") != std::string::npos) return line;
+  }
+  return first.empty() ? "no message" : first;
+}
+
+}  // namespace
+
+void render_plot(const std::string& gnuplot, const fs::path& script, const fs::path& png,
+                 const std::string& title, const std::string& xlabel, const std::string& ylabel,
+                 const std::vector<Curve>& curves) {
+  std::error_code ec;
+  if (!fs::is_regular_file(script, ec)) throw OutputError(script.string() + ": gnuplot script not found");
+  TempPath out(png);
+  TempPath log(png.string() + ".log");
+  std::vector<std::string> args = {gnuplot, "-c", script.string(), out.path().string(), title, xlabel, ylabel};
+  for (const Curve& c : curves) {
+    args.push_back(c.csv.string());
+    args.push_back(c.label);
+  }
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, log.path().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  const int spawn_error = posix_spawn(&pid, gnuplot.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawn_error != 0) {
+    throw OutputError(png.string() + ": cannot run " + gnuplot + ": " + std::strerror(spawn_error));
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) throw OutputError(png.string() + ": waiting for gnuplot: " + std::strerror(errno));
+  }
+  const bool exited_ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (!exited_ok || fs::file_size(out.path(), ec) == 0 || ec) {
+    throw OutputError(png.string() + ": gnuplot " + script.filename().string() + " failed: " + first_line(log.path()));
+  }
+  out.commit();
+}
+
+}  // namespace lgvi::experiments

@@ -1,0 +1,41 @@
+# energy_error.gp: energy error |E - E0| versus time, log scale.
+#
+# Usage:
+#   gnuplot -c energy_error.gp OUT.png TITLE XLABEL YLABEL in1.csv label1 [in2.csv label2 ...]
+#
+# One curve per CSV written by lgvi-testbed. The columns "t" and "energy_error" are read by name:
+# the CSV's '#' metadata lines are comments to gnuplot, its single header row gives the column
+# names (set datafile columnheaders).
+# Plots |energy_error| = |E - E0|, the absolute energy error in the scene's energy unit.
+# It is exactly 0 at t = 0 (and may be elsewhere): those points are left out.
+# XLABEL and YLABEL are gnuplot enhanced text (^ superscript, _ subscript); TITLE and the curve
+# labels are printed literally.
+
+if (ARGC < 6 || ARGC % 2 != 0) {
+    print "usage: gnuplot -c energy_error.gp OUT.png TITLE XLABEL YLABEL in1.csv label1 [in2.csv label2 ...]"
+    exit status 2
+}
+
+set terminal pngcairo size 1000,600 enhanced font "sans,11" linewidth 1.5
+set output ARG1
+set datafile separator comma
+set datafile commentschars "#"
+set datafile columnheaders
+
+set title ARG2 noenhanced
+set xlabel ARG3
+set ylabel ARG4
+set logscale y
+set format y "10^{%L}"
+set mytics 10
+set grid xtics ytics
+set key below center horizontal noenhanced
+set autoscale xfix
+
+# log(0) does not exist: exact zeros become NaN (left out) instead of an arbitrary floor.
+positive(x) = (x > 0 ? x : NaN)
+
+# The first curve is drawn wider so that a later curve lying on top of it (e.g. the free body,
+# where the symmetric and printed forms coincide) leaves it visible.
+plot for [i=5:ARGC:2] ARGV[i] using "t":(positive(abs(column("energy_error")))) \
+     with lines linewidth (i == 5 ? 2.5 : 1.2) title ARGV[i+1]

@@ -1,0 +1,159 @@
+// Scenes: a physical system with its parameters, initial state, horizon and optional control,
+// read from a TOML file (experiments/scenes/NAME.toml) and validated at this boundary.
+//
+// File format (every key below is the complete list; any other key is an error):
+//
+//   system = "free-body" | "pendulum" | "dumbbell"
+//   description = "one line"                    (optional)
+//   [parameters]   free-body: inertia
+//                  pendulum:  mass, inertia, rho, gravity
+//                  dumbbell:  mass, mu, rho, sphere_radius  (J follows from them)
+//                  inertia = [J1, J2, J3] (principal moments) or a 3x3 array of arrays
+//   [initial]      R (3x3 array of rows, default identity), Omega; dumbbell also x, v
+//   [integration]  h, t_final, form = "symmetric" | "printed" (default symmetric),
+//                  output_every (default 1)
+//   [control]      optional. u_i(t) = amplitude_i sin(2 pi frequency_i t + phase_i)
+//                  free-body, pendulum: amplitude, frequency, phase (3-vectors; phase optional)
+//                  dumbbell: sub-tables [control.force] (inertial frame) and [control.moment]
+//                  (body frame), each with amplitude, frequency, phase
+//
+// The horizon must be a whole number of steps: steps = round(t_final / h) and
+// |steps h - t_final| <= 1e-9 t_final. The state is sampled at t_k = k h, k = 0..steps.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "lgvi/lgvi.hpp"
+#include "lgvi/systems/dumbbell.hpp"
+#include "lgvi/systems/free_rigid_body.hpp"
+#include "lgvi/systems/pendulum.hpp"
+#include "lgvi/types.hpp"
+
+namespace lgvi::experiments {
+
+/// Bad scene input. `field` is the dotted TOML path ("parameters.inertia", "integration.h"),
+/// with " (--h)" appended when the value came from a command-line override, or a position
+/// ("line 3, column 7") for malformed TOML. what() is "file: field: reason".
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(std::string file, std::string field, std::string reason);
+  const std::string& file() const { return file_; }
+  const std::string& field() const { return field_; }
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string file_;
+  std::string field_;
+  std::string reason_;
+};
+
+/// Component-wise sinusoid u_i(t) = amplitude_i sin(2 pi frequency_i t + phase_i);
+/// frequency in cycles per unit time (Hz in SI scenes), phase in radians.
+struct Sinusoid {
+  Vec3 amplitude = Vec3::Zero();
+  Vec3 frequency = Vec3::Zero();
+  Vec3 phase = Vec3::Zero();
+
+  Vec3 operator()(double t) const;
+};
+
+struct AttitudeInitial {
+  Mat3 R = Mat3::Identity();
+  Vec3 Omega = Vec3::Zero();
+};
+
+struct RigidBodyInitial {
+  Mat3 R = Mat3::Identity();
+  Vec3 Omega = Vec3::Zero();
+  Vec3 x = Vec3::Zero();
+  Vec3 v = Vec3::Zero();
+};
+
+// One struct per system: a scene holds only the state and controls its system uses.
+struct FreeBodyModel {
+  static constexpr const char* name = "free-body";
+  FreeRigidBody system;
+  AttitudeInitial initial;
+  std::optional<Sinusoid> control;  ///< body-frame moment
+};
+
+struct PendulumModel {
+  static constexpr const char* name = "pendulum";
+  Pendulum3D system;
+  AttitudeInitial initial;
+  std::optional<Sinusoid> control;  ///< u of eq. 23; the applied moment is R^T e3 x u
+};
+
+struct DumbbellModel {
+  static constexpr const char* name = "dumbbell";
+  DumbbellSpacecraft system;
+  RigidBodyInitial initial;
+  std::optional<Sinusoid> force_control;   ///< u^f, inertial frame
+  std::optional<Sinusoid> moment_control;  ///< u^m, body frame
+};
+
+using Model = std::variant<FreeBodyModel, PendulumModel, DumbbellModel>;
+
+/// "free-body", "pendulum" or "dumbbell".
+const char* system_name(const Model& model);
+
+/// The time grid and output decimation of a run (validated: see make_horizon).
+struct Horizon {
+  double h = 0.0;
+  double t_final = 0.0;
+  std::size_t steps = 0;  ///< round(t_final / h)
+  std::size_t output_every = 1;
+};
+
+/// Validates h > 0, t_final > 0 (finite), t_final a whole number of steps to 1e-9 relative,
+/// at most 1e12 steps, output_every >= 1. Throws InvalidInput with field "h", "t_final" or
+/// "output_every".
+Horizon make_horizon(double h, double t_final, std::int64_t output_every);
+
+struct Scene {
+  std::string name;            ///< the file's stem: "pendulum" for .../pendulum.toml
+  std::filesystem::path file;  ///< as given to load_scene
+  std::string description;
+  Model model;
+  Horizon horizon;
+  LgviForm form = LgviForm::Symmetric;
+
+  const char* system() const { return system_name(model); }
+};
+
+/// Command-line replacements of the [integration] values, applied before validation.
+struct SceneOverrides {
+  std::optional<double> h;
+  std::optional<double> t_final;
+  std::optional<LgviForm> form;
+  std::optional<std::int64_t> output_every;
+};
+
+/// Reads and validates a scene file. Throws SceneError (never anything else for bad input).
+Scene load_scene(const std::filesystem::path& file, const SceneOverrides& overrides = {});
+
+/// Same from TOML text; `file` names the source in messages and gives the scene name.
+Scene parse_scene(std::string_view toml_text, const std::filesystem::path& file,
+                  const SceneOverrides& overrides = {});
+
+/// The scenes directory compiled in: <source>/experiments/scenes.
+std::filesystem::path default_scenes_dir();
+
+/// Names of the scenes in a directory (stems of its *.toml files), sorted.
+std::vector<std::string> scene_names(const std::filesystem::path& scenes_dir);
+
+/// Maps a SCENE argument to a file. An argument containing '/' or ending in ".toml" is a path;
+/// anything else is a scene name, looked up as scenes_dir/NAME.toml. Throws SceneError for an
+/// unknown name (listing the known ones) or a missing file.
+std::filesystem::path resolve_scene(const std::string& name_or_path,
+                                    const std::filesystem::path& scenes_dir);
+
+}  // namespace lgvi::experiments

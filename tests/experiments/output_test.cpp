@@ -1,0 +1,100 @@
+// Atomic output: CSV writer, JSON summary, temporaries never left behind.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "cli_support.hpp"
+#include "experiments/atomic_file.hpp"
+#include "experiments/csv_writer.hpp"
+#include "experiments/json_writer.hpp"
+
+namespace lgvi::experiments {
+namespace {
+
+using test::TempDir;
+
+TEST(CsvWriter, LeavesNoFileWithoutCommit) {
+  TempDir dir;
+  {
+    CsvWriter csv(dir.work() / "out.csv", {"t", "x"});
+    const double row[] = {0.0, 1.0};
+    csv.write_row(row);
+    EXPECT_EQ(dir.work_entries().size(), 1u);  // the spool exists while writing...
+  }
+  EXPECT_TRUE(dir.work_entries().empty());  // ...and is gone with the writer, no out.csv
+}
+
+TEST(CsvWriter, WritesMetadataHeaderAndFullPrecisionRows) {
+  TempDir dir;
+  const auto target = dir.work() / "out.csv";
+  CsvWriter csv(target, {"t", "x"});
+  const double third = 1.0 / 3.0;
+  const double rows[][2] = {{0.0, third}, {0.1, -1e-300}, {0.2, 6.02214076e23}};
+  for (const auto& r : rows) csv.write_row(r);
+  EXPECT_FALSE(std::filesystem::exists(target));
+  csv.commit({{"scene", std::string("demo")}, {"h", 0.1}, {"steps", std::int64_t{2}},
+              {"command_line", std::string("a\nb")}});
+  const std::string text = test::read_text(target);
+  EXPECT_EQ(text.substr(0, text.find("0,")),
+            "# scene: demo\n# h: 0.10000000000000001\n# steps: 2\n# command_line: a b\nt,x\n");
+  const test::CsvParts parts = test::read_csv(target);
+  ASSERT_EQ(parts.rows.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(parts.rows[i][1], rows[i][1]);  // %.17g round-trips exactly
+  }
+  EXPECT_EQ(dir.work_entries(), std::vector<std::string>{"out.csv"});
+}
+
+TEST(CsvWriter, CommitReplacesAnExistingFile) {
+  TempDir dir;
+  const auto target = dir.work() / "out.csv";
+  test::write_text(target, "old");
+  CsvWriter csv(target, {"t"});
+  EXPECT_EQ(test::read_text(target), "old");  // untouched until commit
+  csv.commit({});
+  EXPECT_EQ(test::read_text(target), "t\n");
+}
+
+TEST(CsvWriter, UnwritableDirectoryThrowsAndLeavesNothing) {
+  TempDir dir;
+  EXPECT_THROW(CsvWriter(dir.work() / "missing" / "out.csv", {"t"}), OutputError);
+  EXPECT_TRUE(dir.work_entries().empty());
+}
+
+TEST(CsvWriter, FailedRenameLeavesNoTemporary) {
+  TempDir dir;
+  std::filesystem::create_directory(dir.work() / "taken.csv");  // a directory: rename fails
+  {
+    CsvWriter csv(dir.work() / "taken.csv", {"t"});
+    EXPECT_THROW(csv.commit({}), OutputError);
+  }
+  EXPECT_EQ(dir.work_entries(), std::vector<std::string>{"taken.csv"});
+}
+
+TEST(AtomicFile, DestroyedWithoutCommitLeavesNothing) {
+  TempDir dir;
+  {
+    AtomicFile f(dir.work() / "a.json");
+    f.write("partial");
+  }
+  EXPECT_TRUE(dir.work_entries().empty());
+}
+
+TEST(JsonSummary, OneObjectPerLineAndNullForNonFinite) {
+  TempDir dir;
+  const auto target = dir.work() / "summary.json";
+  write_json_summary(target, {{{"scene", std::string("a\"b")}, {"x", 0.1}, {"n", std::int64_t{3}}},
+                              {{"bad", std::numeric_limits<double>::quiet_NaN()}, {"ok", true}}});
+  EXPECT_EQ(test::read_text(target),
+            "[\n{\"scene\": \"a\\\"b\", \"x\": 0.1, \"n\": 3},\n{\"bad\": null, \"ok\": true}\n]\n");
+}
+
+TEST(FieldText, DoublesRoundTrip) {
+  EXPECT_EQ(to_text(FieldValue{0.1}), "0.10000000000000001");
+  EXPECT_EQ(to_text(FieldValue{std::int64_t{-4}}), "-4");
+  EXPECT_EQ(shortest(0.1), "0.1");
+}
+
+}  // namespace
+}  // namespace lgvi::experiments

@@ -1,0 +1,275 @@
+// load_scene / parse_scene: the default scenes' values and every validation error, by field.
+#include "experiments/scene.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "cli_support.hpp"
+#include "lgvi/systems/dumbbell.hpp"
+
+namespace lgvi::experiments {
+namespace {
+
+using test::default_scene_file;
+using test::edited_scene;
+
+SceneError scene_error(const std::string& text, const SceneOverrides& overrides = {}) {
+  try {
+    (void)parse_scene(text, "test.toml", overrides);
+  } catch (const SceneError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "parse_scene accepted the scene";
+  return SceneError("", "", "");
+}
+
+TEST(DefaultScenes, AllLoadAndKeepTheirCsvSmall) {
+  const std::vector<std::string> names = scene_names(default_scenes_dir());
+  EXPECT_EQ(names, (std::vector<std::string>{"dumbbell", "free-body", "pendulum", "pendulum-controlled"}));
+  for (const std::string& name : names) {
+    const Scene s = load_scene(default_scene_file(name));
+    EXPECT_EQ(s.name, name);
+    EXPECT_FALSE(s.description.empty()) << name;
+    // Rows: every output_every-th step plus the last step.
+    const std::size_t rows = s.horizon.steps / s.horizon.output_every + 2;
+    EXPECT_LE(rows, 2001u) << name;
+  }
+}
+
+TEST(DefaultScenes, PendulumHasThePaperParameters) {
+  const Scene s = load_scene(default_scene_file("pendulum"));
+  ASSERT_TRUE(std::holds_alternative<PendulumModel>(s.model));
+  const PendulumModel& m = std::get<PendulumModel>(s.model);
+  EXPECT_EQ(m.system.mass, 1.0);
+  EXPECT_EQ(m.system.inertia.J, Mat3(Vec3(0.13, 0.28, 0.17).asDiagonal()));
+  EXPECT_EQ(m.system.rho, Vec3(0.0, 0.0, 0.3));
+  EXPECT_EQ(m.system.gravity, 9.81);
+  EXPECT_EQ(m.initial.R, Mat3::Identity());
+  EXPECT_EQ(m.initial.Omega, Vec3::Constant(4.14));
+  EXPECT_FALSE(m.control.has_value());
+  EXPECT_EQ(s.horizon.h, 1e-3);
+  EXPECT_EQ(s.horizon.steps, 20000u);
+  EXPECT_EQ(s.form, LgviForm::Symmetric);
+  EXPECT_STREQ(s.system(), "pendulum");
+}
+
+TEST(DefaultScenes, ControlledPendulumHasASinusoid) {
+  const Scene s = load_scene(default_scene_file("pendulum-controlled"));
+  const PendulumModel& m = std::get<PendulumModel>(s.model);
+  ASSERT_TRUE(m.control.has_value());
+  EXPECT_EQ(m.control->amplitude, Vec3(0.5, 0.3, 0.4));
+  // u_i(t) = a_i sin(2 pi f_i t + phi_i)
+  const double t = 0.37;
+  const Vec3 u = (*m.control)(t);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_DOUBLE_EQ(u(i), m.control->amplitude(i) *
+                               std::sin(2.0 * M_PI * m.control->frequency(i) * t + m.control->phase(i)));
+  }
+}
+
+TEST(DefaultScenes, DumbbellStartsOnTheCircularOrbit) {
+  const Scene s = load_scene(default_scene_file("dumbbell"));
+  const DumbbellModel& m = std::get<DumbbellModel>(s.model);
+  const DumbbellSpacecraft paper = DumbbellSpacecraft::paper();
+  EXPECT_EQ(m.system.inertia.J, paper.inertia.J);
+  const double c = paper.circular_speed(1.0);
+  EXPECT_NEAR(m.initial.v.y(), c, 1e-15);
+  EXPECT_NEAR(m.initial.Omega.z(), c, 1e-15);
+  EXPECT_EQ(m.initial.x, Vec3(1.0, 0.0, 0.0));
+  Mat3 R0;
+  R0 << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  EXPECT_EQ(m.initial.R, R0);
+  EXPECT_EQ(s.horizon.steps, 6283u);
+}
+
+TEST(DefaultScenes, FreeBodySpinsNearTheIntermediateAxis) {
+  const Scene s = load_scene(default_scene_file("free-body"));
+  const FreeBodyModel& m = std::get<FreeBodyModel>(s.model);
+  EXPECT_EQ(m.initial.Omega, Vec3(0.05, 0.05, 3.0));
+  EXPECT_EQ(s.horizon.steps, 10000u);
+}
+
+TEST(LoadScene, OverridesReplaceTheIntegrationValues) {
+  SceneOverrides o;
+  o.h = 0.002;
+  o.t_final = 1.0;
+  o.form = LgviForm::Printed;
+  o.output_every = 7;
+  const Scene s = load_scene(default_scene_file("pendulum"), o);
+  EXPECT_EQ(s.horizon.h, 0.002);
+  EXPECT_EQ(s.horizon.steps, 500u);
+  EXPECT_EQ(s.horizon.output_every, 7u);
+  EXPECT_EQ(s.form, LgviForm::Printed);
+}
+
+TEST(LoadScene, AcceptsAFullInertiaMatrixAndDefaultsRToIdentity) {
+  std::string text = edited_scene("free-body", "inertia = [0.13, 0.28, 0.17]",
+                                  "inertia = [[0.2, 0.01, 0.0], [0.01, 0.25, 0.0], [0.0, 0.0, 0.3]]");
+  text.replace(text.find("R = "), text.find('\n', text.find("R = ")) - text.find("R = "), "");
+  const Scene s = parse_scene(text, "free.toml");
+  const FreeBodyModel& m = std::get<FreeBodyModel>(s.model);
+  EXPECT_EQ(m.system.inertia.J(0, 1), 0.01);
+  EXPECT_EQ(m.initial.R, Mat3::Identity());
+}
+
+TEST(LoadScene, DumbbellControlHasForceAndMomentTables) {
+  const std::string text = test::read_text(default_scene_file("dumbbell")) +
+                           "\n[control.force]\namplitude = [0.1, 0, 0]\nfrequency = [1, 1, 1]\n"
+                           "[control.moment]\namplitude = [0, 0, 0.01]\nfrequency = [0.5, 0.5, 0.5]\n"
+                           "phase = [0, 0, 1.5707963267948966]\n";
+  const Scene s = parse_scene(text, "d.toml");
+  const DumbbellModel& m = std::get<DumbbellModel>(s.model);
+  ASSERT_TRUE(m.force_control && m.moment_control);
+  EXPECT_NEAR((*m.moment_control)(0.0).z(), 0.01, 1e-17);
+  EXPECT_EQ((*m.force_control)(0.0), Vec3::Zero());
+}
+
+struct BadScene {
+  const char* what;
+  const char* scene;
+  const char* from;
+  const char* to;
+  const char* field;
+  const char* reason;  ///< substring of the reason
+};
+
+class SceneErrors : public ::testing::TestWithParam<BadScene> {};
+
+TEST_P(SceneErrors, NameTheFieldAndTheReason) {
+  const BadScene& b = GetParam();
+  const SceneError e = scene_error(edited_scene(b.scene, b.from, b.to));
+  EXPECT_EQ(e.file(), "test.toml");
+  EXPECT_EQ(e.field(), b.field) << e.what();
+  EXPECT_NE(e.reason().find(b.reason), std::string::npos) << e.what();
+  EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    All, SceneErrors,
+    ::testing::Values(
+        BadScene{"unknown top key", "pendulum", "description", "descripton", "descripton", "unknown key"},
+        BadScene{"unknown parameter", "pendulum", "gravity =", "gravty =", "parameters.gravty", "unknown key"},
+        BadScene{"unknown initial key", "pendulum", "Omega =", "omega =", "initial.omega", "unknown key"},
+        BadScene{"x on a pendulum", "pendulum", "Omega =", "x = [1, 0, 0]\nOmega =", "initial.x", "unknown key"},
+        BadScene{"unknown integration key", "pendulum", "output_every", "every", "integration.every", "unknown key"},
+        BadScene{"unknown system", "pendulum", "\"pendulum\"", "\"pendulm\"", "system", "unknown system"},
+        BadScene{"missing parameter", "pendulum", "gravity = 9.81", "", "parameters.gravity", "is required"},
+        BadScene{"missing table", "pendulum", "[initial]", "[initial_]", "initial_", "unknown key"},
+        BadScene{"h <= 0", "pendulum", "h = 1e-3", "h = 0.0", "integration.h", "must be > 0"},
+        BadScene{"h < 0", "pendulum", "h = 1e-3", "h = -1e-3", "integration.h", "must be > 0"},
+        BadScene{"t_final <= 0", "pendulum", "t_final = 20.0", "t_final = -2.0", "integration.t_final", "> 0"},
+        BadScene{"not a multiple", "pendulum", "t_final = 20.0", "t_final = 20.0005", "integration.t_final",
+                 "whole number of steps"},
+        BadScene{"shorter than a step", "pendulum", "t_final = 20.0", "t_final = 1e-4", "integration.t_final",
+                 "shorter than one step"},
+        BadScene{"output_every 0", "pendulum", "output_every = 20", "output_every = 0",
+                 "integration.output_every", ">= 1"},
+        BadScene{"output_every float", "pendulum", "output_every = 20", "output_every = 2.5",
+                 "integration.output_every", "must be an integer"},
+        BadScene{"bad form", "pendulum", "\"symmetric\"", "\"implicit\"", "integration.form", "symmetric"},
+        BadScene{"not SPD", "pendulum", "inertia = [0.13, 0.28, 0.17]", "inertia = [0.13, -0.28, 0.17]",
+                 "parameters.inertia", "positive definite"},
+        BadScene{"triangle", "pendulum", "inertia = [0.13, 0.28, 0.17]", "inertia = [0.1, 0.1, 0.5]",
+                 "parameters.inertia", "triangle inequality"},
+        BadScene{"not symmetric", "free-body", "inertia = [0.13, 0.28, 0.17]",
+                 "inertia = [[1, 0.1, 0], [0, 1, 0], [0, 0, 1]]", "parameters.inertia", "not symmetric"},
+        BadScene{"inertia shape", "free-body", "inertia = [0.13, 0.28, 0.17]", "inertia = [1, 2]",
+                 "parameters.inertia", "principal moments"},
+        BadScene{"matrix row shape", "free-body", "inertia = [0.13, 0.28, 0.17]",
+                 "inertia = [[1, 0, 0], [0, 1], [0, 0, 1]]", "parameters.inertia", "row 1"},
+        BadScene{"vector shape", "pendulum", "rho = [0.0, 0.0, 0.3]", "rho = [0.0, 0.3]", "parameters.rho",
+                 "array of 3 numbers"},
+        BadScene{"R shape", "pendulum", "R = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "R = [1, 0, 0]", "initial.R",
+                 "3x3"},
+        BadScene{"R not orthonormal", "pendulum", "R = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
+                 "R = [[1, 0, 0], [0, 1, 0], [0, 0.1, 1]]", "initial.R", "not a rotation"},
+        BadScene{"R reflection", "pendulum", "R = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
+                 "R = [[1, 0, 0], [0, 1, 0], [0, 0, -1]]", "initial.R", "not a rotation"},
+        BadScene{"NaN", "pendulum", "Omega = [4.14, 4.14, 4.14]", "Omega = [4.14, nan, 4.14]", "initial.Omega[1]",
+                 "finite"},
+        BadScene{"inf", "pendulum", "mass = 1.0", "mass = inf", "parameters.mass", "finite"},
+        BadScene{"type", "pendulum", "mass = 1.0", "mass = \"one\"", "parameters.mass", "must be a number"},
+        BadScene{"negative mass", "pendulum", "mass = 1.0", "mass = -1.0", "parameters.mass", "> 0"},
+        BadScene{"dumbbell inside", "dumbbell", "x = [1.0, 0.0, 0.0]", "x = [0.1, 0.0, 0.0]", "initial.x",
+                 "central body"},
+        BadScene{"dumbbell radius", "dumbbell", "sphere_radius = 0.05", "sphere_radius = -0.05",
+                 "parameters.sphere_radius", ">= 0"},
+        BadScene{"control key", "pendulum-controlled", "phase =", "phse =", "control.phse", "unknown key"},
+        BadScene{"control missing", "pendulum-controlled", "frequency = [0.5, 0.9, 1.3]", "", "control.frequency",
+                 "is required"}),
+    [](const ::testing::TestParamInfo<BadScene>& info) {
+      std::string name = info.param.what;
+      for (char& c : name) {
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      }
+      return name;
+    });
+
+TEST(SceneErrors, MalformedTomlGivesLineAndColumn) {
+  const SceneError e = scene_error("system = \"pendulum\"\nmass = = 1.0\n");
+  EXPECT_EQ(e.field(), "line 2, column 8");
+  EXPECT_FALSE(e.reason().empty());
+}
+
+TEST(SceneErrors, WrongTypesAndMissingParts) {
+  EXPECT_EQ(scene_error("system = \"free-body\"\nparameters = 3\n").field(), "parameters");
+  EXPECT_EQ(scene_error("system = 3\n").field(), "system");
+  EXPECT_EQ(scene_error("description = \"no system\"\n").field(), "system");
+  EXPECT_EQ(scene_error("system = \"free-body\"\n").field(), "parameters");
+}
+
+TEST(SceneErrors, OverridesAreNamedInTheField) {
+  const std::string text = test::read_text(default_scene_file("pendulum"));
+  SceneOverrides o;
+  o.h = -1.0;
+  EXPECT_EQ(scene_error(text, o).field(), "integration.h (--h)");
+  o.h = 0.003;
+  EXPECT_EQ(scene_error(text, o).field(), "integration.t_final (h from --h)");
+  o = {};
+  o.t_final = 0.0105;
+  EXPECT_EQ(scene_error(text, o).field(), "integration.t_final (--t-final)");
+  o = {};
+  o.output_every = 0;
+  EXPECT_EQ(scene_error(text, o).field(), "integration.output_every (--every)");
+}
+
+TEST(SceneErrors, MissingFileIsASceneError) {
+  try {
+    (void)load_scene("/nonexistent/dir/x.toml");
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.file(), "/nonexistent/dir/x.toml");
+    EXPECT_NE(e.reason().find("cannot read"), std::string::npos);
+  }
+}
+
+TEST(MakeHorizon, CountsStepsAndChecksTheGrid) {
+  const Horizon a = make_horizon(0.01, 62.83, 8);
+  EXPECT_EQ(a.steps, 6283u);
+  EXPECT_EQ(make_horizon(0.1, 0.3, 1).steps, 3u);  // 0.3 / 0.1 = 2.9999999999999996
+  EXPECT_THROW(make_horizon(0.1, 0.35, 1), InvalidInput);
+  EXPECT_THROW(make_horizon(1e-300, 1e300, 1), InvalidInput);  // too many steps
+  EXPECT_THROW(make_horizon(std::nan(""), 1.0, 1), InvalidInput);
+  EXPECT_THROW(make_horizon(0.1, 1.0, 0), InvalidInput);
+}
+
+TEST(ResolveScene, NamesAndPaths) {
+  const auto dir = default_scenes_dir();
+  EXPECT_EQ(resolve_scene("pendulum", dir), dir / "pendulum.toml");
+  EXPECT_EQ(resolve_scene("./my.toml", dir), std::filesystem::path("./my.toml"));
+  EXPECT_EQ(resolve_scene("my.toml", dir), std::filesystem::path("my.toml"));
+  try {
+    (void)resolve_scene("pendulm", dir);
+    FAIL();
+  } catch (const SceneError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("pendulm"), std::string::npos);
+    for (const char* known : {"dumbbell", "free-body", "pendulum", "pendulum-controlled"}) {
+      EXPECT_NE(what.find(known), std::string::npos) << what;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace lgvi::experiments
