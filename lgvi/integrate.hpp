@@ -54,11 +54,19 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
   if (!observer(std::size_t{0}, t0, std::as_const(state), initial)) {
     stats.status = IntegrationStatus::ObserverStopped;
   }
+  // Flow maps that sample the control inside the step (composition) take the control function.
+  constexpr bool samples_control = requires { lgvi.step_at(state, t0, h, control, state); };
   typename Integrator::Control u_k = control(t0);
   for (std::size_t k = 0; k < steps && stats.ok(); ++k) {
     const double t1 = t0 + static_cast<double>(k + 1) * h;
-    const typename Integrator::Control u_k1 = control(t1);
-    const RotationUpdateSummary s = lgvi.step(state, h, u_k, u_k1, state);
+    RotationUpdateSummary s;
+    typename Integrator::Control u_k1 = u_k;
+    if constexpr (samples_control) {
+      s = lgvi.step_at(state, t0 + static_cast<double>(k) * h, h, control, state);
+    } else {
+      u_k1 = control(t1);
+      s = lgvi.step(state, h, u_k, u_k1, state);
+    }
     stats.newton_iterations += static_cast<std::size_t>(s.iterations);
     if (!s.converged()) {
       stats.status = IntegrationStatus::RotationUpdateFailed;
@@ -68,7 +76,11 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
       break;
     }
     ++stats.steps;
-    stats.potential_evaluations += Integrator::potential_evaluations_per_step;
+    if constexpr (requires { lgvi.potential_evaluations(); }) {
+      stats.potential_evaluations += static_cast<std::size_t>(lgvi.potential_evaluations());
+    } else {
+      stats.potential_evaluations += Integrator::potential_evaluations_per_step;
+    }
     stats.max_newton_iterations = std::max(stats.max_newton_iterations, s.iterations);
     stats.fallbacks += s.used_fallback ? 1 : 0;
     stats.max_rotation_residual = std::max(stats.max_rotation_residual, s.residual);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "lgvi/composition.hpp"
 #include "lgvi/integrate.hpp"
 
 namespace lgvi {
@@ -55,6 +56,16 @@ std::string Stats::brief() const {
                   potential_evaluations, wall_seconds);
   }
   return buf;
+}
+
+CompositionScheme composition_scheme(const std::string& name) {
+  namespace c = composition_coefficients;
+  if (name == "yoshida4") return {"yoshida4", 4, c::yoshida4};
+  if (name == "suzuki4") return {"suzuki4", 4, c::suzuki4};
+  if (name == "yoshida6") return {"yoshida6", 6, c::yoshida6};
+  if (name == "kahan-li6") return {"kahan-li6", 6, c::kahan_li6};
+  throw InvalidInput("composition",
+                     "unknown scheme '" + name + "' (known: yoshida4, suzuki4, yoshida6, kahan-li6)");
 }
 
 }  // namespace lgvi

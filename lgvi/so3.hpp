@@ -60,6 +60,14 @@ inline Mat3 exp(const Vec3& w) {
   return Mat3::Identity() + a * W + b * W * W;
 }
 
+/// exp(hat w) - I = a hat(w) + b hat(w)^2, accurate relative to its own size (no cancellation
+/// against I): the form to use when a small rotation's deviation from I enters a difference.
+inline Mat3 exp_minus_identity(const Vec3& w) {
+  const auto [a, b] = rodrigues(w.norm());
+  const Mat3 W = hat(w);
+  return a * W + b * W * W;
+}
+
 /// log: SO(3) -> so(3), principal branch, |result| in [0, pi]. Precondition: R orthonormal
 /// with det +1 (to round-off).
 ///
