@@ -3,7 +3,9 @@
 #include <benchmark/benchmark.h>
 
 #include "lgvi/integrate.hpp"
+#include "lgvi/composition.hpp"
 #include "lgvi/lgvi.hpp"
+#include "lgvi/multibody_lgvi.hpp"
 #include "lgvi/systems/dumbbell.hpp"
 #include "lgvi/systems/free_rigid_body.hpp"
 #include "lgvi/systems/pendulum.hpp"
@@ -62,6 +64,54 @@ void BM_DumbbellStep(benchmark::State& bench) {
   bench.counters["newton_per_step"] =
       static_cast<double>(newton) / static_cast<double>(bench.iterations());
 }
+
+void BM_CartPendulumStep(benchmark::State& bench) {
+  const CartPendulum cart = CartPendulum::paper();
+  const CartPendulumLgvi lgvi(cart);
+  auto s = lgvi.make_state(so3::exp(Vec3(0.5, -0.3, 0.2)), Vec2(0.1, -0.2), Vec3(1.0, -0.5, 2.0),
+                           Vec2(0.3, 0.1));
+  const Vec2 u = Vec2::Zero();
+  std::size_t newton = 0;
+  for (auto _ : bench) {
+    newton += static_cast<std::size_t>(lgvi.step(s, 1e-3, u, u, s).iterations);
+    benchmark::DoNotOptimize(s);
+  }
+  bench.SetItemsProcessed(bench.iterations());
+  bench.counters["newton_per_step"] = static_cast<double>(newton) / static_cast<double>(bench.iterations());
+}
+
+void BM_ConnectedBodiesStep(benchmark::State& bench) {
+  const ConnectedBodies bodies = ConnectedBodies::paper();
+  const ConnectedBodiesLgvi lgvi(bodies);
+  auto s = lgvi.make_state(Mat3::Identity(), so3::exp(Vec3(0.3, 0.2, -0.1)), Vec3(0.5, -0.4, 0.3),
+                           Vec3(-0.2, 0.6, 0.1));
+  const Vec3 u = Vec3::Zero();
+  std::size_t newton = 0;
+  for (auto _ : bench) {
+    newton += static_cast<std::size_t>(lgvi.step(s, 1e-2, u, u, s).iterations);
+    benchmark::DoNotOptimize(s);
+  }
+  bench.SetItemsProcessed(bench.iterations());
+  bench.counters["newton_per_step"] = static_cast<double>(newton) / static_cast<double>(bench.iterations());
+}
+
+/// One composed step (all substeps) of the pendulum LGVI; argument: 0 yoshida4, 1 kahan-li6.
+void BM_ComposedPendulumStep(benchmark::State& bench) {
+  const Pendulum3D pendulum = Pendulum3D::paper();
+  const AttitudeLgvi base(pendulum);
+  const ComposedLgvi composed(base, composition_scheme(bench.range(0) == 0 ? "yoshida4" : "kahan-li6"));
+  auto s = base.make_state(Mat3::Identity(), Vec3(4.14, 4.14, 4.14));
+  const Vec3 u = Vec3::Zero();
+  for (auto _ : bench) {
+    composed.step(s, 1e-3, u, u, s);
+    benchmark::DoNotOptimize(s);
+  }
+  bench.SetItemsProcessed(bench.iterations());
+}
+
+BENCHMARK(BM_CartPendulumStep);
+BENCHMARK(BM_ConnectedBodiesStep);
+BENCHMARK(BM_ComposedPendulumStep)->Arg(0)->Arg(1);
 
 // Argument: 0 = Cayley, 1 = exponential coordinates for the rotation update.
 BENCHMARK(BM_PendulumStep)->Arg(0)->Arg(1);

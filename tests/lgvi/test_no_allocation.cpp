@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <new>
 
+#include "lgvi/composition.hpp"
+#include "lgvi/multibody_lgvi.hpp"
 #include "lgvi_cases.hpp"
 
 namespace {
@@ -49,6 +51,28 @@ TEST(LgviAllocation, StepsAllocateNothing) {
                 dumbbell_lgvi,
                 dumbbell_lgvi.make_state(dumbbell_R0(), dumbbell_x0(), dumbbell_Omega0(), dumbbell_v0()),
                 dumbbell_control),
+            0u);
+}
+
+TEST(LgviAllocation, MultibodyAndComposedStepsAllocateNothing) {
+  const CartPendulum cart = CartPendulum::paper();
+  const CartPendulumLgvi cart_lgvi(cart);
+  EXPECT_EQ(allocations_during(cart_lgvi,
+                               cart_lgvi.make_state(so3::exp(Vec3(0.5, -0.3, 0.2)), Vec2(0.1, -0.2),
+                                                    Vec3(1.0, -0.5, 2.0), Vec2(0.3, 0.1)),
+                               [](double t) { return Vec2(std::sin(t), std::cos(t)); }),
+            0u);
+  const ConnectedBodies bodies = ConnectedBodies::paper();
+  const ConnectedBodiesLgvi bodies_lgvi(bodies);
+  EXPECT_EQ(allocations_during(bodies_lgvi,
+                               bodies_lgvi.make_state(Mat3::Identity(), so3::exp(Vec3(0.3, 0.2, -0.1)),
+                                                      Vec3(0.5, -0.4, 0.3), Vec3(-0.2, 0.6, 0.1)),
+                               [](double t) { return Vec3(0.1 * std::sin(t), 0.0, 0.05); }),
+            0u);
+  const Pendulum3D pendulum = Pendulum3D::paper();
+  const AttitudeLgvi base(pendulum);
+  const ComposedLgvi composed(base, composition_scheme("kahan-li6"));
+  EXPECT_EQ(allocations_during(composed, base.make_state(Mat3::Identity(), pendulum_Omega0()), pendulum_control),
             0u);
 }
 
