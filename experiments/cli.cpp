@@ -8,6 +8,7 @@
 
 #include "experiments/atomic_file.hpp"
 #include "experiments/method.hpp"
+#include "experiments/ocp_command.hpp"
 #include "experiments/plot.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/simulate.hpp"
@@ -81,14 +82,16 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     app.set_version_flag("--version", std::string("lgvi-testbed ") + git_describe());
     app.footer(
         "Exit status: 0 success; 1 bad input (scene file or option; one 'error:' line on stderr);\n"
-        "2 a run stopped early (rotation update failed; the CSV of the completed steps is written);\n"
+        "2 a run stopped early (rotation update failed, a baseline solver failed or hit gimbal lock;\n"
+        "  the CSV of the completed steps is written);\n"
         "3 results could not be written (file system, gnuplot).");
     std::string scenes_dir = default_scenes_dir().string();
     app.add_option("--scenes-dir", scenes_dir, "Directory of the named scenes (NAME.toml)")->capture_default_str();
 
     CLI::App* scenes_cmd = app.add_subcommand("scenes", "List the named scenes (name and description)");
 
-    CLI::App* sim = app.add_subcommand("simulate", "Run one scene with the LGVI; write a CSV, print a summary line");
+    CLI::App* sim = app.add_subcommand(
+        "simulate", "Run one scene with the LGVI or a baseline solver; write a CSV, print a summary line");
     std::string scene_arg;
     std::string csv_out;
     double h = 0.0;
@@ -104,6 +107,17 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     CLI::Option* form_opt = sim->add_option("--form", form, "LGVI form: symmetric | printed (replaces integration.form)");
     CLI::Option* every_opt =
         sim->add_option("--every", every, "Write every K-th step to the CSV (replaces integration.output_every)");
+    std::string method_name = "lgvi";
+    std::string model_name;
+    double rtol = 0.0;
+    double atol = 0.0;
+    std::string method_help = "Method:";
+    for (const std::string& n : method_names()) method_help += " " + n;
+    sim->add_option("--method", method_name, method_help)->capture_default_str();
+    CLI::Option* model_opt = sim->add_option(
+        "--model", model_name, "Baseline's coordinate model: quaternion | quaternion-renormalized | euler | matrix");
+    CLI::Option* rtol_opt = sim->add_option("--rtol", rtol, "Adaptive baseline's relative tolerance (default 1e-6)");
+    CLI::Option* atol_opt = sim->add_option("--atol", atol, "Adaptive baseline's absolute tolerance (default: rtol)");
 
     CLI::App* suite_cmd = app.add_subcommand("suite", "Run a suite: CSV per case, summary.json, PNG plots");
     std::string suite_name;
@@ -118,6 +132,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     suite_cmd->add_flag("--no-plots", no_plots, "Skip the gnuplot figures");
     suite_cmd->add_option("--plots-dir", plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
     suite_cmd->add_option("--gnuplot", gnuplot, "gnuplot executable")->capture_default_str();
+    OcpCommand ocp_options;
+    CLI::App* ocp_cmd = add_ocp_command(app, ocp_options);
 
     try {
       app.parse(argc, argv);
@@ -128,6 +144,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     const std::string command_line = quote_command_line(argc, argv);
 
     if (scenes_cmd->parsed()) return list_scenes(scenes_dir, out);
+    if (ocp_cmd->parsed()) return run_ocp_command(ocp_options, command_line, out, err);
 
     if (sim->parsed()) {
       SceneOverrides overrides;
@@ -135,9 +152,14 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       if (t_opt->count() > 0) overrides.t_final = t_final;
       if (form_opt->count() > 0) overrides.form = parse_form_option(form);
       if (every_opt->count() > 0) overrides.output_every = every;
+      MethodOptions method_options;
+      if (model_opt->count() > 0) method_options.model = model_name;
+      if (rtol_opt->count() > 0) method_options.rtol = rtol;
+      if (atol_opt->count() > 0) method_options.atol = atol;
+      if (form_opt->count() > 0 && method_name != "lgvi") throw InvalidInput("--form", "applies to the LGVI only");
+      const std::unique_ptr<Method> method = make_method(method_name, method_options);
       const Scene scene = load_scene(resolve_scene(scene_arg, scenes_dir), overrides);
       const fs::path csv = csv_out.empty() ? fs::path(scene.name + ".csv") : fs::path(csv_out);
-      const std::unique_ptr<Method> method = make_method("lgvi");
       const RunSummary summary = simulate(scene, *method, {csv, command_line});
       if (!summary.stats.ok()) {
         return report(err, scene.name + ": " + summary.stats.brief() + " (CSV of the completed steps: " +

@@ -1,9 +1,12 @@
 // The LGVI as a Method: AttitudeLgvi<System> for the free body and the pendulum, DumbbellLgvi
-// for the dumbbell, in the scene's form (symmetric or printed).
+// for the dumbbell, CartPendulumLgvi and ConnectedBodiesLgvi for the multibody systems, in the
+// scene's form (symmetric or printed).
 #include <type_traits>
 
+#include "baselines/solver.hpp"
 #include "experiments/method.hpp"
 #include "lgvi/lgvi.hpp"
+#include "lgvi/multibody_lgvi.hpp"
 
 namespace lgvi::experiments {
 
@@ -47,6 +50,43 @@ class LgviMethod final : public Method {
         return true;
       };
       return integrate(lgvi, state, 0.0, hz.h, hz.steps, control, observer);
+    } else if constexpr (std::is_same_v<Model, CartPendulumModel>) {
+      const CartPendulumLgvi lgvi(m.system, scene.form);
+      CartPendulumState state = lgvi.make_state(m.initial.R, m.initial.q, m.initial.Omega, m.initial.q_dot);
+      const auto control = [&m](double t) -> Vec2 {
+        if (!m.control) return Vec2::Zero();
+        const Vec3 u = (*m.control)(t);
+        return Vec2(u.x(), u.y());
+      };
+      Sample sample;
+      const auto observer = [&](std::size_t k, double t, const CartPendulumState& s, const RotationUpdateSummary& r) {
+        Vec2 q_dot;
+        sample.t = t;
+        sample.R = s.R;
+        lgvi.velocities(s, sample.Omega, q_dot);
+        sample.x << s.q, 0.0;
+        sample.v << q_dot, 0.0;
+        sample.newton_iterations = r.iterations;
+        recorder.record(k, sample);
+        return true;
+      };
+      return integrate(lgvi, state, 0.0, hz.h, hz.steps, control, observer);
+    } else if constexpr (std::is_same_v<Model, ConnectedBodiesModel>) {
+      const ConnectedBodiesLgvi lgvi(m.system, scene.form);
+      ConnectedBodiesState state = lgvi.make_state(m.initial.R1, m.initial.R2, m.initial.Omega1, m.initial.Omega2);
+      const auto control = [&m](double t) -> Vec3 { return m.control ? (*m.control)(t) : Vec3::Zero(); };
+      Sample sample;
+      const auto observer = [&](std::size_t k, double t, const ConnectedBodiesState& s,
+                                const RotationUpdateSummary& r) {
+        sample.t = t;
+        sample.R = s.R1;
+        sample.R2 = s.R2;
+        lgvi.velocities(s, sample.Omega, sample.Omega2);
+        sample.newton_iterations = r.iterations;
+        recorder.record(k, sample);
+        return true;
+      };
+      return integrate(lgvi, state, 0.0, hz.h, hz.steps, control, observer);
     } else {
       using System = std::decay_t<decltype(m.system)>;
       const AttitudeLgvi<System> lgvi(m.system, scene.form, options_);
@@ -70,10 +110,25 @@ class LgviMethod final : public Method {
 
 }  // namespace
 
-std::vector<std::string> method_names() { return {"lgvi"}; }
+std::vector<std::string> method_names() {
+  std::vector<std::string> names = {"lgvi"};
+  for (const std::string& n : baselines::solver_names()) names.push_back(n);
+  return names;
+}
 
-std::unique_ptr<Method> make_method(const std::string& name) {
-  if (name == "lgvi") return std::make_unique<LgviMethod>();
+std::unique_ptr<Method> make_method(const std::string& name) { return make_method(name, MethodOptions{}); }
+
+std::unique_ptr<Method> make_method(const std::string& name, const MethodOptions& options) {
+  if (name == "lgvi") {
+    if (options.model) throw InvalidInput("model", "the LGVI works on SO(3) itself: it takes no coordinate model");
+    if (options.rtol || options.atol) {
+      throw InvalidInput(options.rtol ? "rtol" : "atol", "the LGVI is a fixed-step method (h from the scene)");
+    }
+    return std::make_unique<LgviMethod>();
+  }
+  for (const std::string& n : baselines::solver_names()) {
+    if (n == name) return make_baseline_method(name, options);
+  }
   std::string known;
   for (const std::string& n : method_names()) known += (known.empty() ? "" : ", ") + n;
   throw InvalidInput("method", "unknown method '" + name + "' (known: " + known + ")");

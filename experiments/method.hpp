@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,21 @@ class Method {
   virtual Fields settings(const Scene& scene) const = 0;
   /// Integrates scene.horizon from the scene's initial state, passing the state at every grid
   /// time t_k (k = 0..steps, or up to the last good step) to `recorder`. Never prints.
+  /// The continuous-time baselines pass the output grid only (k = 0, output_every,
+  /// 2 output_every, ..., steps), so that sampling does not dictate their steps.
   virtual Stats run(const Scene& scene, Recorder& recorder) const = 0;
+  /// True for the quaternion baselines: the recorder adds the quaternion_norm_error column.
+  virtual bool records_quaternion_norm() const { return false; }
+};
+
+/// Options of the continuous-time baselines (experiments/baseline_method.cpp); the LGVI takes
+/// none. model: quaternion | quaternion-renormalized | euler | matrix (required by the
+/// baselines); rtol, atol: adaptive baselines only (default 1e-6, atol = rtol). Fixed-step
+/// baselines step with the scene's h.
+struct MethodOptions {
+  std::optional<std::string> model;
+  std::optional<double> rtol;
+  std::optional<double> atol;
 };
 
 /// The method names make_method accepts.
@@ -33,5 +48,14 @@ std::vector<std::string> method_names();
 
 /// Method by name. Throws InvalidInput("method", ...) for an unknown name.
 std::unique_ptr<Method> make_method(const std::string& name);
+/// Method by name with options, validated here (before anything runs or is written): throws
+/// InvalidInput("method" | "model" | "rtol" | "atol", ...) for an unknown name or model, a
+/// baseline without a model, options the method does not take (the LGVI takes none; fixed-step
+/// baselines take no tolerances), non-positive tolerances, or a renormalized model on a solver
+/// without a post-step hook.
+std::unique_ptr<Method> make_method(const std::string& name, const MethodOptions& options);
+
+/// Baseline method (experiments/baseline_method.cpp); `name` is one of baselines::solver_names().
+std::unique_ptr<Method> make_baseline_method(const std::string& name, const MethodOptions& options);
 
 }  // namespace lgvi::experiments

@@ -14,14 +14,21 @@
 
 namespace lgvi::experiments {
 
-/// The state at t_k in the paper's variables. x, v are used by the dumbbell only.
+/// The state at t_k in the paper's variables. x, v: the dumbbell's position and velocity, or
+/// the cart's (x, y, 0) and (x', y', 0). R2, Omega2: the second of the connected bodies (R,
+/// Omega are the first).
 struct Sample {
   double t = 0.0;
   Mat3 R = Mat3::Identity();
   Vec3 Omega = Vec3::Zero();
   Vec3 x = Vec3::Zero();
   Vec3 v = Vec3::Zero();
+  Mat3 R2 = Mat3::Identity();
+  Vec3 Omega2 = Vec3::Zero();
   int newton_iterations = 0;  ///< of the step that produced this sample (0 at k = 0)
+  /// | |q| - 1 | of a quaternion baseline's state (written only by a Recorder made with
+  /// quaternion_column; see baselines/coordinates.hpp).
+  double quaternion_norm_error = 0.0;
 };
 
 /// Worst deviations over every recorded step (not only the rows written to the CSV).
@@ -32,6 +39,8 @@ struct Diagnostics {
   double max_determinant_error = 0.0;    ///< max |det R - 1|
   double momentum0_norm = 0.0;           ///< |momentum map at t = 0|
   double max_momentum_error = 0.0;       ///< max |m - m0| (Euclidean norm)
+  bool quaternion_norm_recorded = false;    ///< a quaternion baseline: the next field is meaningful
+  double max_quaternion_norm_error = 0.0;   ///< max | |q| - 1 |
 
   /// Energy error normalized by |E0|, or absolute when E0 = 0 exactly.
   bool energy_error_is_relative() const { return energy0 != 0.0; }
@@ -49,14 +58,17 @@ class Recorder {
  public:
   /// `csv` may be null (diagnostics only). Rows are written for k % output_every == 0 and for
   /// the last recorded sample (see finish()).
-  Recorder(const Model& model, std::size_t output_every, CsvWriter* csv);
+  /// quaternion_column adds the column quaternion_norm_error (after determinant_error), for
+  /// the quaternion baselines.
+  Recorder(const Model& model, std::size_t output_every, CsvWriter* csv, bool quaternion_column = false);
 
   /// The CSV columns for a model: t, R11..R33, Omega1..3, [x1..3, v1..3], energy,
   /// energy_error, orthogonality_error, determinant_error, <momentum columns>,
   /// momentum_error, newton_iterations.
-  static std::vector<std::string> columns(const Model& model);
+  static std::vector<std::string> columns(const Model& model, bool quaternion_column = false);
 
-  /// Records the sample of step k (k = 0, 1, 2, ... consecutively).
+  /// Records the sample of step k (k = 0, 1, 2, ... consecutively; the baselines, sampled on the
+  /// output grid only, pass k = 0, output_every, 2 output_every, ... and the last step).
   void record(std::size_t k, const Sample& sample);
   /// Writes the last recorded sample if its k was not a multiple of output_every, so a CSV
   /// always ends at the last step computed (t_final, or the last good step of a failed run).
@@ -69,7 +81,7 @@ class Recorder {
   double seconds() const { return seconds_; }
 
  private:
-  static constexpr std::size_t kMaxColumns = 32;
+  static constexpr std::size_t kMaxColumns = 40;
   const Model& model_;
   std::size_t output_every_;
   CsvWriter* csv_;
@@ -79,6 +91,7 @@ class Recorder {
   std::array<double, kMaxColumns> row_{};
   bool row_pending_ = false;
   std::size_t samples_ = 0;
+  bool quaternion_column_ = false;
   double seconds_ = 0.0;
 };
 

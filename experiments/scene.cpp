@@ -140,6 +140,12 @@ class Reader {
     return v;
   }
 
+  Vec2 vec2(const toml::node& n, const std::string& field) const {
+    const toml::array* a = n.as_array();
+    if (a == nullptr || a->size() != 2) fail(field, "must be an array of 2 numbers (got " + describe(n) + ")");
+    return Vec2(number(*a->get(0), field + "[0]"), number(*a->get(1), field + "[1]"));
+  }
+
   /// A 3x3 matrix written as an array of its 3 rows.
   Mat3 mat3(const toml::node& n, const std::string& field) const {
     const toml::array* a = n.as_array();
@@ -177,6 +183,15 @@ class Reader {
     return s;
   }
 
+  /// A sinusoid with 2 components (the cart's forces); the third component stays 0.
+  Sinusoid sinusoid2(const toml::table& t, const std::string& prefix) const {
+    Sinusoid s;
+    s.amplitude.head<2>() = vec2(required(t, "amplitude", prefix), prefix + ".amplitude");
+    s.frequency.head<2>() = vec2(required(t, "frequency", prefix), prefix + ".frequency");
+    if (const toml::node* p = t.get("phase")) s.phase.head<2>() = vec2(*p, prefix + ".phase");
+    return s;
+  }
+
   /// Runs a physics constructor/validator, re-raising its InvalidInput with `prefix` + field.
   template <class F>
   auto physics(const std::string& prefix, F&& f) const {
@@ -191,7 +206,8 @@ class Reader {
   std::string file_;
 };
 
-constexpr std::array<std::string_view, 3> kSystems = {"free-body", "pendulum", "dumbbell"};
+constexpr std::array<std::string_view, 5> kSystems = {"free-body", "pendulum", "dumbbell", "cart-pendulum",
+                                                      "connected-bodies"};
 
 /// make_state's field names ("R0") in scene-file terms ("initial.R").
 std::string initial_field(const std::string& field) {
@@ -199,6 +215,12 @@ std::string initial_field(const std::string& field) {
   if (field == "Omega0") return "initial.Omega";
   if (field == "x0") return "initial.x";
   if (field == "v0") return "initial.v";
+  if (field == "q0") return "initial.q";
+  if (field == "q_dot0") return "initial.q_dot";
+  if (field == "R1_0") return "initial.R1";
+  if (field == "R2_0") return "initial.R2";
+  if (field == "Omega1_0") return "initial.Omega1";
+  if (field == "Omega2_0") return "initial.Omega2";
   return "initial." + field;
 }
 
@@ -235,6 +257,40 @@ Model read_model(const Reader& r, const std::string& system, const toml::table& 
                     attitude_initial(), {}};
     if (control != nullptr) m.control = r.sinusoid(*control, "control");
     validate_initial_state(r, AttitudeLgvi<Pendulum3D>(m.system), m.initial.R, m.initial.Omega);
+    return m;
+  }
+  if (system == "cart-pendulum") {
+    const double cart_mass = r.number(r.required(parameters, "cart_mass", "parameters"), "parameters.cart_mass");
+    const double mass = r.number(r.required(parameters, "mass", "parameters"), "parameters.mass");
+    const Mat3 J = r.inertia(r.required(parameters, "inertia", "parameters"), "parameters.inertia");
+    const Vec3 d = r.vec3(r.required(parameters, "d", "parameters"), "parameters.d");
+    const double g = r.number(r.required(parameters, "gravity", "parameters"), "parameters.gravity");
+    CartPendulumInitial init;
+    if (const toml::node* R = initial.get("R")) init.R = r.mat3(*R, "initial.R");
+    init.Omega = r.vec3(r.required(initial, "Omega", "initial"), "initial.Omega");
+    init.q = r.vec2(r.required(initial, "q", "initial"), "initial.q");
+    init.q_dot = r.vec2(r.required(initial, "q_dot", "initial"), "initial.q_dot");
+    CartPendulumModel m{r.physics("parameters.", [&] { return CartPendulum(cart_mass, mass, J, d, g); }), init, {}};
+    if (control != nullptr) m.control = r.sinusoid2(*control, "control");
+    validate_initial_state(r, CartPendulumLgvi(m.system), init.R, init.q, init.Omega, init.q_dot);
+    return m;
+  }
+  if (system == "connected-bodies") {
+    const double m1 = r.number(r.required(parameters, "mass1", "parameters"), "parameters.mass1");
+    const Mat3 J1 = r.inertia(r.required(parameters, "inertia1", "parameters"), "parameters.inertia1");
+    const Vec3 d1 = r.vec3(r.required(parameters, "d1", "parameters"), "parameters.d1");
+    const double m2 = r.number(r.required(parameters, "mass2", "parameters"), "parameters.mass2");
+    const Mat3 J2 = r.inertia(r.required(parameters, "inertia2", "parameters"), "parameters.inertia2");
+    const Vec3 d2 = r.vec3(r.required(parameters, "d2", "parameters"), "parameters.d2");
+    ConnectedBodiesInitial init;
+    if (const toml::node* R = initial.get("R1")) init.R1 = r.mat3(*R, "initial.R1");
+    if (const toml::node* R = initial.get("R2")) init.R2 = r.mat3(*R, "initial.R2");
+    init.Omega1 = r.vec3(r.required(initial, "Omega1", "initial"), "initial.Omega1");
+    init.Omega2 = r.vec3(r.required(initial, "Omega2", "initial"), "initial.Omega2");
+    ConnectedBodiesModel m{r.physics("parameters.", [&] { return ConnectedBodies(m1, J1, d1, m2, J2, d2); }),
+                           init, {}};
+    if (control != nullptr) m.control = r.sinusoid(*control, "control");
+    validate_initial_state(r, ConnectedBodiesLgvi(m.system), init.R1, init.R2, init.Omega1, init.Omega2);
     return m;
   }
   // dumbbell
@@ -324,7 +380,8 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control"});
   const std::string system = r.string(r.required(doc, "system", ""), "system");
   if (std::find(kSystems.begin(), kSystems.end(), system) == kSystems.end()) {
-    r.fail("system", "unknown system '" + system + "' (expected one of: free-body, pendulum, dumbbell)");
+    r.fail("system", "unknown system '" + system +
+                         "' (expected one of: free-body, pendulum, dumbbell, cart-pendulum, connected-bodies)");
   }
   const toml::table* parameters = r.table(doc, "parameters", "", true);
   const toml::table* initial = r.table(doc, "initial", "", true);
@@ -333,8 +390,18 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   if (system == "free-body") r.check_keys(*parameters, "parameters", {"inertia"});
   if (system == "pendulum") r.check_keys(*parameters, "parameters", {"mass", "inertia", "rho", "gravity"});
   if (system == "dumbbell") r.check_keys(*parameters, "parameters", {"mass", "mu", "rho", "sphere_radius"});
+  if (system == "cart-pendulum") {
+    r.check_keys(*parameters, "parameters", {"cart_mass", "mass", "inertia", "d", "gravity"});
+  }
+  if (system == "connected-bodies") {
+    r.check_keys(*parameters, "parameters", {"mass1", "inertia1", "d1", "mass2", "inertia2", "d2"});
+  }
   if (system == "dumbbell") {
     r.check_keys(*initial, "initial", {"R", "Omega", "x", "v"});
+  } else if (system == "cart-pendulum") {
+    r.check_keys(*initial, "initial", {"R", "Omega", "q", "q_dot"});
+  } else if (system == "connected-bodies") {
+    r.check_keys(*initial, "initial", {"R1", "R2", "Omega1", "Omega2"});
   } else {
     r.check_keys(*initial, "initial", {"R", "Omega"});
   }

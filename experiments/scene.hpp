@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "lgvi/lgvi.hpp"
+#include "lgvi/multibody_lgvi.hpp"
 #include "lgvi/systems/dumbbell.hpp"
 #include "lgvi/systems/free_rigid_body.hpp"
 #include "lgvi/systems/pendulum.hpp"
@@ -100,9 +101,42 @@ struct DumbbellModel {
   std::optional<Sinusoid> moment_control;  ///< u^m, body frame
 };
 
-using Model = std::variant<FreeBodyModel, PendulumModel, DumbbellModel>;
+struct CartPendulumInitial {
+  Mat3 R = Mat3::Identity();
+  Vec3 Omega = Vec3::Zero();
+  Vec2 q = Vec2::Zero();      ///< cart position (x, y)
+  Vec2 q_dot = Vec2::Zero();  ///< cart velocity
+};
 
-/// "free-body", "pendulum" or "dumbbell".
+struct CartPendulumModel {
+  static constexpr const char* name = "cart-pendulum";
+  CartPendulum system;
+  CartPendulumInitial initial;
+  std::optional<Sinusoid> control;  ///< cart forces (u_x, u_y) in components 1, 2; component 3 is 0
+};
+
+struct ConnectedBodiesInitial {
+  Mat3 R1 = Mat3::Identity(), R2 = Mat3::Identity();
+  Vec3 Omega1 = Vec3::Zero(), Omega2 = Vec3::Zero();
+};
+
+struct ConnectedBodiesModel {
+  static constexpr const char* name = "connected-bodies";
+  ConnectedBodies system;
+  ConnectedBodiesInitial initial;
+  std::optional<Sinusoid> control;  ///< internal moment u (inertial frame): +u on body 1, -u on body 2
+};
+
+using Model = std::variant<FreeBodyModel, PendulumModel, DumbbellModel, CartPendulumModel,
+                           ConnectedBodiesModel>;
+
+/// True for the systems with a single rigid body (the baselines' models cover these).
+inline bool is_single_body(const Model& model) {
+  return !std::holds_alternative<CartPendulumModel>(model) &&
+         !std::holds_alternative<ConnectedBodiesModel>(model);
+}
+
+/// "free-body", "pendulum", "dumbbell", "cart-pendulum" or "connected-bodies".
 const char* system_name(const Model& model);
 
 /// The time grid and output decimation of a run (validated: see make_horizon).

@@ -41,6 +41,10 @@ Fields RunSummary::to_fields() const {
       {"fallbacks", as_int(stats.fallbacks)},
       {"potential_evaluations", as_int(stats.potential_evaluations)},
       {"max_rotation_residual", stats.max_rotation_residual},
+      {"rhs_evaluations", as_int(stats.rhs_evaluations)},
+      {"jacobian_evaluations", as_int(stats.jacobian_evaluations)},
+      {"nonlinear_iterations", as_int(stats.nonlinear_iterations)},
+      {"rejected_steps", as_int(stats.rejected_steps)},
       {"energy0", d.energy0},
       {"max_energy_error", d.max_energy_error()},
       {"energy_error_normalization",
@@ -55,12 +59,14 @@ Fields RunSummary::to_fields() const {
       {"csv_rows", as_int(csv_rows)},
   };
   f.insert(f.end(), rest.begin(), rest.end());
+  if (d.quaternion_norm_recorded) f.push_back({"max_quaternion_norm_error", d.max_quaternion_norm_error});
   return f;
 }
 
 RunSummary simulate(const Scene& scene, const Method& method, const SimulateOptions& options) {
-  CsvWriter csv(options.csv, Recorder::columns(scene.model));
-  Recorder recorder(scene.model, scene.horizon.output_every, &csv);
+  const bool quaternion_column = method.records_quaternion_norm();
+  CsvWriter csv(options.csv, Recorder::columns(scene.model, quaternion_column));
+  Recorder recorder(scene.model, scene.horizon.output_every, &csv, quaternion_column);
   const Stats stats = method.run(scene, recorder);
   recorder.finish();
 

@@ -24,6 +24,12 @@ Labels labels_for(const Model& model) {
     return {"time [normalized: orbit period 2π]", "|E - E_0| [normalized]",
             "|H - H_0| [normalized],  H = x × m v + R J Ω"};
   }
+  if (std::holds_alternative<CartPendulumModel>(model)) {
+    return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]"};
+  }
+  if (std::holds_alternative<ConnectedBodiesModel>(model)) {
+    return {"time [s]", "|E - E_0| [J]", "|R_1 Π_1 + R_2 Π_2 - (...)_0| [kg m^2/s]"};
+  }
   if (std::holds_alternative<PendulumModel>(model)) {
     return {"time [s]", "|E - E_0| [J]", "|e_3^T R J Ω - (e_3^T R J Ω)_0| [kg m^2/s]"};
   }

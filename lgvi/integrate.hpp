@@ -13,8 +13,16 @@
 
 namespace lgvi {
 
-/// Why an integration stopped.
-enum class IntegrationStatus { Completed, RotationUpdateFailed, ObserverStopped };
+/// Why an integration stopped. SolverFailed and CoordinateSingularity come from the
+/// continuous-time baselines (baselines/): a solver's failure flag, or a coordinate model's
+/// singular set (Euler angles at gimbal lock); failure_detail says which.
+enum class IntegrationStatus {
+  Completed,
+  RotationUpdateFailed,
+  ObserverStopped,
+  SolverFailed,
+  CoordinateSingularity
+};
 const char* to_string(IntegrationStatus s);
 
 /// Summary of an integration run (the project's common Stats, like Ceres' Solver::Summary).
@@ -28,9 +36,17 @@ struct Stats {
   double max_rotation_residual = 0.0;     ///< worst relative residual of the rotation update
   double wall_seconds = 0.0;
   // Failure location (status == RotationUpdateFailed): the step k -> k+1 that failed.
+  // Baselines (SolverFailed, CoordinateSingularity): failed_time is the time reached (the root
+  // of the singular set's event function), failed_step the solver steps completed.
   std::size_t failed_step = 0;
   double failed_time = 0.0;
   RotationUpdateSummary failure;
+  // Continuous-time baselines; zero for the LGVI.
+  std::size_t rhs_evaluations = 0;       ///< every right-hand-side call (difference-quotient Jacobians too)
+  std::size_t jacobian_evaluations = 0;  ///< Jacobian evaluations requested by the solver
+  std::size_t nonlinear_iterations = 0;  ///< implicit solvers' Newton iterations, where reported (CVODE)
+  std::size_t rejected_steps = 0;        ///< error-test and convergence failures, where reported
+  std::string failure_detail;            ///< SolverFailed / CoordinateSingularity: what and why, one line
 
   bool ok() const { return status == IntegrationStatus::Completed; }
   /// One line, e.g. "completed 1000 steps, 3012 Newton iterations (max 4), 0.01 s" or

@@ -39,6 +39,8 @@ const char* to_string(IntegrationStatus s) {
     case IntegrationStatus::Completed: return "completed";
     case IntegrationStatus::RotationUpdateFailed: return "rotation update failed";
     case IntegrationStatus::ObserverStopped: return "stopped by observer";
+    case IntegrationStatus::SolverFailed: return "solver failed";
+    case IntegrationStatus::CoordinateSingularity: return "coordinate singularity";
   }
   return "unknown";
 }
@@ -48,6 +50,17 @@ std::string Stats::brief() const {
   if (status == IntegrationStatus::RotationUpdateFailed) {
     std::snprintf(buf, sizeof buf, "rotation update failed at step %zu (t = %.17g): %s", failed_step,
                   failed_time, failure.brief().c_str());
+  } else if (status == IntegrationStatus::SolverFailed || status == IntegrationStatus::CoordinateSingularity) {
+    std::snprintf(buf, sizeof buf, "%s at t = %.17g after %zu steps: ", to_string(status), failed_time,
+                  failed_step);
+    return buf + failure_detail;
+  } else if (rhs_evaluations > 0) {
+    // A continuous-time baseline: its cost is right-hand sides, Jacobians and Newton iterations.
+    std::snprintf(buf, sizeof buf,
+                  "%s %zu steps, %zu RHS evaluations, %zu Jacobian evaluations, %zu Newton iterations, "
+                  "%zu rejected steps, %.3g s",
+                  to_string(status), steps, rhs_evaluations, jacobian_evaluations, nonlinear_iterations,
+                  rejected_steps, wall_seconds);
   } else {
     std::snprintf(buf, sizeof buf,
                   "%s %zu steps, %zu Newton iterations (max %d per step, %zu fallbacks), "

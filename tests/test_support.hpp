@@ -49,4 +49,16 @@ double loglog_slope(const Vec& x, const Vec& y) {
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
+// --- Optimal control (tests/ocp) -------------------------------------------------------------
+// Linearizations A_k, B_k and sensitivities Psi against central differences: the issue fixes
+// the step (1e-6, scaled by the size of the perturbed variable) and the bound (1e-6 relative).
+// Expected: truncation a^2 |f'''| / 6 ~ 1e-12 and round-off eps |f| / a ~ 2e-10 relative, so
+// the bound has a margin of ~1e3.
+constexpr double kOcpFdStep = 1e-6;
+constexpr double kOcpFdTolerance = 1e-6;
+// Gradients of a cost by central differences with the balanced step kFdStep: compared with
+// the adjoint gradient to kFdTolerance relative to the gradient's norm (see above).
+// Terminal violation the shooting must reach (the issue's acceptance bound).
+constexpr double kOcpViolation = 1e-12;
+
 }  // namespace lgvi::test

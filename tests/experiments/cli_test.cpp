@@ -68,7 +68,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"wrong_shape", "pendulum", "rho = [0.0, 0.0, 0.3]", "rho = [[0.0, 0.0, 0.3]]",
                 {"parameters.rho", "array of 3 numbers"}},
         BadFile{"wrong_type", "dumbbell", "mu = 1.0", "mu = true", {"parameters.mu", "must be a number"}},
-        BadFile{"bad_form_in_file", "pendulum", "\"symmetric\"", "\"implicit\"", {"integration.form"}}),
+        BadFile{"bad_form_in_file", "pendulum", "\"symmetric\"", "\"implicit\"", {"integration.form"}},
+        BadFile{"cart_q_wrong_shape", "cart-pendulum", "q = [0.0, 0.0]", "q = [0.0, 0.0, 0.0]",
+                {"initial.q", "array of 2 numbers"}},
+        BadFile{"cart_mass_negative", "cart-pendulum", "cart_mass = 1.0", "cart_mass = -1.0",
+                {"parameters.cart_mass", "> 0"}},
+        BadFile{"bodies_inertia_not_symmetric", "connected-bodies", "[0.32, 1.88, -0.06]", "[0.33, 1.88, -0.06]",
+                {"parameters.inertia1", "not symmetric"}},
+        BadFile{"bodies_unknown_key", "connected-bodies", "d2 =", "d3 =", {"parameters.d3", "unknown key"}}),
     [](const ::testing::TestParamInfo<BadFile>& info) { return std::string(info.param.what); });
 
 struct BadArgs {
@@ -118,15 +125,27 @@ const std::vector<std::string> kMetadataKeys = {
     "output_every", "momentum_map", "git_describe", "command_line", "status"};
 
 std::vector<std::string> expected_header(const std::string& system) {
-  std::vector<std::string> h = {"t", "R11", "R12", "R13", "R21", "R22", "R23", "R31", "R32", "R33",
-                                "Omega1", "Omega2", "Omega3"};
+  std::vector<std::string> h = {"t"};
+  if (system == "connected-bodies") {
+    for (const char* body : {"R1_", "R2_"}) {
+      for (const char* ij : {"11", "12", "13", "21", "22", "23", "31", "32", "33"}) h.push_back(body + std::string(ij));
+    }
+    for (const char* c : {"Omega1_1", "Omega1_2", "Omega1_3", "Omega2_1", "Omega2_2", "Omega2_3"}) h.push_back(c);
+  } else {
+    for (const char* c : {"R11", "R12", "R13", "R21", "R22", "R23", "R31", "R32", "R33", "Omega1", "Omega2", "Omega3"}) {
+      h.push_back(c);
+    }
+  }
   if (system == "dumbbell") {
     for (const char* c : {"x1", "x2", "x3", "v1", "v2", "v3"}) h.push_back(c);
+  }
+  if (system == "cart-pendulum") {
+    for (const char* c : {"x", "y", "xdot", "ydot"}) h.push_back(c);
   }
   for (const char* c : {"energy", "energy_error", "orthogonality_error", "determinant_error"}) h.push_back(c);
   if (system == "free-body") {
     for (const char* c : {"spatial_momentum1", "spatial_momentum2", "spatial_momentum3"}) h.push_back(c);
-  } else if (system == "pendulum") {
+  } else if (system == "pendulum" || system == "cart-pendulum") {
     h.push_back("vertical_momentum");
   } else {
     for (const char* c : {"angular_momentum1", "angular_momentum2", "angular_momentum3"}) h.push_back(c);
@@ -193,7 +212,9 @@ INSTANTIATE_TEST_SUITE_P(All, CliSimulate,
                          ::testing::Values(ShortRun{"free-body", "free-body", "0.5", 100, 11},
                                            ShortRun{"pendulum", "pendulum", "0.1", 100, 6},
                                            ShortRun{"pendulum-controlled", "pendulum", "0.105", 105, 7},
-                                           ShortRun{"dumbbell", "dumbbell", "1", 100, 14}),
+                                           ShortRun{"dumbbell", "dumbbell", "1", 100, 14},
+                                           ShortRun{"cart-pendulum", "cart-pendulum", "0.1", 100, 6},
+                                           ShortRun{"connected-bodies", "connected-bodies", "1", 100, 26}),
                          [](const ::testing::TestParamInfo<ShortRun>& info) {
                            std::string n = info.param.scene;
                            std::replace(n.begin(), n.end(), '-', '_');
@@ -267,9 +288,10 @@ TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
   const CliResult r = run_testbed(dir, {"scenes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  ASSERT_EQ(lines.size(), 4u) << r.out;
-  const char* names[] = {"dumbbell", "free-body", "pendulum", "pendulum-controlled"};
-  for (std::size_t i = 0; i < 4; ++i) {
+  ASSERT_EQ(lines.size(), 6u) << r.out;
+  const char* names[] = {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "pendulum",
+                         "pendulum-controlled"};
+  for (std::size_t i = 0; i < 6; ++i) {
     EXPECT_EQ(lines[i].rfind(std::string(names[i]) + " ", 0), 0u) << lines[i];
     EXPECT_GT(lines[i].size(), 30u) << lines[i];
   }
@@ -293,7 +315,8 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
   std::vector<std::string> expected = {"summary.json"};
-  for (const char* scene : {"dumbbell", "free-body", "pendulum", "pendulum-controlled"}) {
+  for (const char* scene :
+       {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "pendulum", "pendulum-controlled"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
       expected.push_back(scene + std::string(suffix));
     }
@@ -302,10 +325,10 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   EXPECT_EQ(files, expected);  // and no temporaries
 
   const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.json"));
-  ASSERT_EQ(summary.size(), 10u);  // [, 8 runs, ]
+  ASSERT_EQ(summary.size(), 14u);  // [, 12 runs, ]
   EXPECT_EQ(summary.front(), "[");
   EXPECT_EQ(summary.back(), "]");
-  for (std::size_t i = 1; i <= 8; ++i) {
+  for (std::size_t i = 1; i <= 12; ++i) {
     for (const char* key : {"\"scene\": ", "\"method\": \"lgvi\"", "\"form\": ", "\"status\": \"completed\"",
                             "\"newton_iterations\": ", "\"max_newton_iterations\": ", "\"wall_seconds\": ",
                             "\"potential_evaluations\": ", "\"max_energy_error\": ",

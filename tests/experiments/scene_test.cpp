@@ -26,7 +26,8 @@ SceneError scene_error(const std::string& text, const SceneOverrides& overrides 
 
 TEST(DefaultScenes, AllLoadAndKeepTheirCsvSmall) {
   const std::vector<std::string> names = scene_names(default_scenes_dir());
-  EXPECT_EQ(names, (std::vector<std::string>{"dumbbell", "free-body", "pendulum", "pendulum-controlled"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "pendulum",
+                                             "pendulum-controlled"}));
   for (const std::string& name : names) {
     const Scene s = load_scene(default_scene_file(name));
     EXPECT_EQ(s.name, name);
@@ -35,6 +36,26 @@ TEST(DefaultScenes, AllLoadAndKeepTheirCsvSmall) {
     const std::size_t rows = s.horizon.steps / s.horizon.output_every + 2;
     EXPECT_LE(rows, 2001u) << name;
   }
+}
+
+TEST(DefaultScenes, MultibodyScenesHaveThePaperParameters) {
+  const Scene cart = load_scene(default_scene_file("cart-pendulum"));
+  ASSERT_TRUE(std::holds_alternative<CartPendulumModel>(cart.model));
+  const CartPendulum& c = std::get<CartPendulumModel>(cart.model).system;
+  EXPECT_EQ(c.cart_mass, 1.0);
+  EXPECT_EQ(c.mass, 1.0);
+  EXPECT_EQ(c.inertia.J, Mat3(Vec3(1.03, 1.04, 0.03).asDiagonal()));
+  EXPECT_EQ(c.d, Vec3(0.0, 0.0, 1.0));
+  const Scene bodies = load_scene(default_scene_file("connected-bodies"));
+  ASSERT_TRUE(std::holds_alternative<ConnectedBodiesModel>(bodies.model));
+  const ConnectedBodies& b = std::get<ConnectedBodiesModel>(bodies.model).system;
+  const ConnectedBodies paper = ConnectedBodies::paper();
+  EXPECT_EQ(b.mass1, paper.mass1);
+  EXPECT_EQ(b.mass2, paper.mass2);
+  EXPECT_EQ(b.inertia1.J, paper.inertia1.J);
+  EXPECT_EQ(b.inertia2.J, paper.inertia2.J);
+  EXPECT_EQ(b.d1, paper.d1);
+  EXPECT_EQ(b.d2, paper.d2);
 }
 
 TEST(DefaultScenes, PendulumHasThePaperParameters) {

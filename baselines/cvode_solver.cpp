@@ -1,0 +1,196 @@
+// SUNDIALS CVODE (v6 API): Adams or BDF, Newton iteration with a dense direct linear solver and
+// the model's Jacobian (or CVODE's difference quotient), scalar tolerances, dense output at the
+// requested times (CV_NORMAL, stop time at the last one), the Euler model's singular set as a
+// root function, CVODE's projection interface for the renormalized quaternion (BDF only).
+// Every return flag is checked; CVODE's error handler is redirected into the status.
+#include <cvode/cvode.h>
+#include <cvode/cvode_proj.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "baselines/solver_detail.hpp"
+
+namespace lgvi::baselines::detail {
+
+namespace {
+
+struct CvodeUser {
+  Run* run;
+  std::vector<double> J;  ///< row-major Jacobian buffer
+  std::string last_message;
+};
+
+int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void* user) {
+  auto* u = static_cast<CvodeUser*>(user);
+  // Unrecoverable (-1): on the singular set or with a non-finite value nothing sensible can be
+  // retried; the run reports the remembered failure.
+  return u->run->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot)) ? 0 : -1;
+}
+
+int cv_jac(realtype t, N_Vector y, N_Vector /*fy*/, SUNMatrix Jm, void* user, N_Vector, N_Vector, N_Vector) {
+  auto* u = static_cast<CvodeUser*>(user);
+  const std::size_t n = u->run->n;
+  if (!u->run->jacobian(t, N_VGetArrayPointer(y), u->J.data())) return -1;
+  for (std::size_t j = 0; j < n; ++j) {
+    realtype* col = SUNDenseMatrix_Column(Jm, static_cast<sunindextype>(j));
+    for (std::size_t i = 0; i < n; ++i) col[i] = u->J[i * n + j];
+  }
+  return 0;
+}
+
+int cv_root(realtype /*t*/, N_Vector y, realtype* g, void* user) {
+  auto* u = static_cast<CvodeUser*>(user);
+  g[0] = u->run->ode.singularity_function(N_VGetArrayPointer(y));
+  return 0;
+}
+
+/// Renormalization: ycur <- ycur / |q| per quaternion, corr = projected - unprojected, the error
+/// estimate projected on the tangent space (CVODE then uses it in its error test).
+int cv_project(realtype /*t*/, N_Vector ycur, N_Vector corr, realtype /*eps*/, N_Vector err, void* user) {
+  auto* u = static_cast<CvodeUser*>(user);
+  const Ode& ode = u->run->ode;
+  const std::size_t n = u->run->n;
+  double* y = N_VGetArrayPointer(ycur);
+  double* c = N_VGetArrayPointer(corr);
+  for (std::size_t i = 0; i < n; ++i) c[i] = y[i];
+  ode.renormalize(y);
+  for (std::size_t i = 0; i < n; ++i) c[i] = y[i] - c[i];
+  if (err != nullptr) ode.project_error(y, N_VGetArrayPointer(err));
+  return 0;
+}
+
+void cv_error_handler(int /*code*/, const char* module, const char* function, char* msg, void* user) {
+  auto* u = static_cast<CvodeUser*>(user);
+  u->last_message = std::string(module ? module : "") + "/" + (function ? function : "") + ": " + (msg ? msg : "");
+}
+
+std::string flag_name(int flag) {
+  char* name = CVodeGetReturnFlagName(flag);
+  std::string s = name ? name : ("flag " + std::to_string(flag));
+  std::free(name);
+  return s;
+}
+
+/// Owns the CVODE objects; frees them in reverse order whatever happens.
+struct CvodeObjects {
+  SUNContext ctx = nullptr;
+  N_Vector y = nullptr;
+  SUNMatrix A = nullptr;
+  SUNLinearSolver LS = nullptr;
+  void* mem = nullptr;
+  ~CvodeObjects() {
+    if (mem) CVodeFree(&mem);
+    if (LS) SUNLinSolFree(LS);
+    if (A) SUNMatDestroy(A);
+    if (y) N_VDestroy(y);
+    if (ctx) SUNContext_Free(&ctx);
+  }
+};
+
+}  // namespace
+
+Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
+  CvodeUser user{&run, std::vector<double>(run.n * run.n), {}};
+  CvodeObjects cv;
+  const auto n = static_cast<sunindextype>(run.n);
+  const double t0 = run.times[0];
+  const double t_end = run.times.back();
+  if (run.done()) return run.stats;
+
+  // A setup flag is a programming or memory error, reported as such with the call's name.
+  auto setup = [&](int flag, const char* call) {
+    if (flag < 0 && !run.stopped()) {
+      run.stop_failed(t0, std::string(call) + " returned " + flag_name(flag) +
+                              (user.last_message.empty() ? "" : " (" + user.last_message + ")"));
+    }
+    return flag >= 0;
+  };
+  if (SUNContext_Create(nullptr, &cv.ctx) != 0 || cv.ctx == nullptr) {
+    run.stop_failed(t0, "SUNContext_Create failed");
+    return run.stats;
+  }
+  cv.y = N_VNew_Serial(n, cv.ctx);
+  cv.mem = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, cv.ctx);
+  cv.A = SUNDenseMatrix(n, n, cv.ctx);
+  if (!cv.y || !cv.mem || !cv.A) {
+    run.stop_failed(t0, "CVODE allocation failed");
+    return run.stats;
+  }
+  cv.LS = SUNLinSol_Dense(cv.y, cv.A, cv.ctx);
+  if (!cv.LS) {
+    run.stop_failed(t0, "SUNLinSol_Dense failed");
+    return run.stats;
+  }
+  std::copy(y.begin(), y.end(), N_VGetArrayPointer(cv.y));
+  bool ok = setup(CVodeSetErrHandlerFn(cv.mem, cv_error_handler, &user), "CVodeSetErrHandlerFn") &&
+            setup(CVodeInit(cv.mem, cv_rhs, t0, cv.y), "CVodeInit") &&
+            setup(CVodeSetUserData(cv.mem, &user), "CVodeSetUserData") &&
+            setup(CVodeSStolerances(cv.mem, *run.settings.rtol, *run.settings.atol), "CVodeSStolerances") &&
+            setup(CVodeSetLinearSolver(cv.mem, cv.LS, cv.A), "CVodeSetLinearSolver") &&
+            setup(CVodeSetJacFn(cv.mem, run.settings.jacobian == JacobianSource::Analytic ? cv_jac : nullptr),
+                  "CVodeSetJacFn") &&
+            setup(CVodeSetStopTime(cv.mem, t_end), "CVodeSetStopTime");
+  if (ok && run.ode.has_singular_set()) {
+    int direction = -1;  // g decreases through 0 when |cos theta| falls to the threshold
+    ok = setup(CVodeRootInit(cv.mem, 1, cv_root), "CVodeRootInit") &&
+         setup(CVodeSetRootDirection(cv.mem, &direction), "CVodeSetRootDirection");
+  }
+  if (ok && run.ode.renormalizes()) ok = setup(CVodeSetProjFn(cv.mem, cv_project), "CVodeSetProjFn");
+  if (!ok) return run.stats;
+
+  auto collect = [&] {
+    long v = 0;
+    if (CVodeGetNumSteps(cv.mem, &v) >= 0) run.stats.steps = static_cast<std::size_t>(v);
+    long netf = 0, ncfn = 0, nni = 0;
+    if (CVodeGetNumErrTestFails(cv.mem, &netf) >= 0 && CVodeGetNumNonlinSolvConvFails(cv.mem, &ncfn) >= 0) {
+      run.stats.rejected_steps = static_cast<std::size_t>(netf + ncfn);
+    }
+    if (CVodeGetNumNonlinSolvIters(cv.mem, &nni) >= 0) run.stats.nonlinear_iterations = static_cast<std::size_t>(nni);
+    // With CVODE's difference quotient the Jacobian evaluations are CVODE's count (its RHS calls
+    // are already in rhs_evaluations, which counts every call).
+    long nje = 0;
+    if (run.settings.jacobian == JacobianSource::DifferenceQuotient && CVodeGetNumJacEvals(cv.mem, &nje) >= 0) {
+      run.stats.jacobian_evaluations = static_cast<std::size_t>(nje);
+    }
+  };
+
+  while (!run.done() && !run.stopped()) {
+    const std::size_t i = run.next_output();
+    collect();
+    if (run.stats.steps >= run.settings.max_steps) {
+      run.stop_failed(run.times[i - 1], "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
+      break;
+    }
+    // CVODE's mxstep counts per call: give this call what is left of the run's budget.
+    if (!setup(CVodeSetMaxNumSteps(cv.mem, static_cast<long>(run.settings.max_steps - run.stats.steps)),
+               "CVodeSetMaxNumSteps")) {
+      break;
+    }
+    realtype t = 0.0;
+    const int flag = CVode(cv.mem, run.times[i], cv.y, &t, CV_NORMAL);
+    collect();
+    if (flag == CV_ROOT_RETURN) {
+      run.stop_singular(t, N_VGetArrayPointer(cv.y));
+    } else if (flag < 0) {
+      if (!run.stop_on_rhs_failure()) {
+        realtype t_reached = t;
+        CVodeGetCurrentTime(cv.mem, &t_reached);
+        run.stop_failed(t_reached, flag_name(flag) + (user.last_message.empty() ? "" : ": " + user.last_message));
+      }
+    } else {
+      // CV_SUCCESS or CV_TSTOP_RETURN (the last time): y is the state at times[i].
+      run.emit(i, N_VGetArrayPointer(cv.y));
+    }
+  }
+  collect();
+  std::copy(N_VGetArrayPointer(cv.y), N_VGetArrayPointer(cv.y) + run.n, y.begin());
+  return run.stats;
+}
+
+}  // namespace lgvi::baselines::detail

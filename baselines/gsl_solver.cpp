@@ -1,0 +1,134 @@
+// GSL odeiv2 (2.7): rk8pd (explicit, error control), rk4imp (implicit Gauss-Legendre, fixed
+// step), msbdf (variable-order BDF). All three are driven through a gsl_odeiv2_driver, which
+// msbdf and rk4imp require (they read the error levels of its control object); the stepping
+// itself is a loop of gsl_odeiv2_evolve_apply calls so that every accepted step can be checked
+// (event, finiteness) and, where allowed, renormalized.
+//
+// GSL facts that shape this adapter (GSL 2.7 sources, ode-initval2/):
+//  - evolve_apply lands exactly on its target time t1 and recomputes dydt_in from y at every
+//    call, so a one-step method may have y modified between calls (rk8pd: free renormalization);
+//    msbdf keeps a Nordsieck history and may not (rejected in resolve_settings).
+//  - rk4imp always takes one step of h and two of h/2 (its error estimate by step doubling)
+//    and returns the two half steps: a "fixed step h" is two Gauss steps of h/2 at about three
+//    times the cost of one. Its modified Newton iteration stops when the estimated error is
+//    below the control's error level (we use newton_tolerance (1 + |y_i|)), within 7
+//    iterations, and fails on any non-contracting iteration. Fixed steps go through
+//    evolve_apply_fixed_step with no control object, i.e. without step rejection.
+//  - A user function returning GSL_EBADFUNC makes evolve return at once (used for the singular
+//    set and non-finite values); any other failure makes evolve halve the step and retry.
+//  - GSL's default error handler aborts the process: it is switched off for the run (and the
+//    previous handler restored afterwards).
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "baselines/solver_detail.hpp"
+
+namespace lgvi::baselines::detail {
+
+namespace {
+
+int gsl_rhs(double t, const double y[], double dydt[], void* params) {
+  return static_cast<Run*>(params)->rhs(t, y, dydt) ? GSL_SUCCESS : GSL_EBADFUNC;
+}
+
+int gsl_jac(double t, const double y[], double* dfdy, double dfdt[], void* params) {
+  Run* run = static_cast<Run*>(params);
+  if (!run->jacobian(t, y, dfdy)) return GSL_EBADFUNC;
+  return run->time_derivative(t, y, dfdt) ? GSL_SUCCESS : GSL_EBADFUNC;
+}
+
+struct HandlerGuard {
+  gsl_error_handler_t* previous = gsl_set_error_handler_off();
+  ~HandlerGuard() { gsl_set_error_handler(previous); }
+};
+
+struct DriverDeleter {
+  void operator()(gsl_odeiv2_driver* d) const { gsl_odeiv2_driver_free(d); }
+};
+
+std::string gsl_status(int status) {
+  return std::string(gsl_strerror(status)) + " (GSL status " + std::to_string(status) + ")";
+}
+
+}  // namespace
+
+Stats run_gsl(Run& run, std::vector<double>& y) {
+  if (run.done()) return run.stats;
+  const HandlerGuard guard;
+  gsl_odeiv2_system sys{gsl_rhs, gsl_jac, run.n, &run};
+  const std::string& m = run.method;
+  const bool fixed = m == "gsl-rk4imp";
+  const gsl_odeiv2_step_type* type = m == "gsl-rk8pd"    ? gsl_odeiv2_step_rk8pd
+                                     : m == "gsl-rk4imp" ? gsl_odeiv2_step_rk4imp
+                                                         : gsl_odeiv2_step_msbdf;
+  const double tol_abs = fixed ? run.settings.newton_tolerance : *run.settings.atol;
+  const double tol_rel = fixed ? run.settings.newton_tolerance : *run.settings.rtol;
+  const double h0 = fixed ? *run.settings.h : run.initial_step();
+  std::unique_ptr<gsl_odeiv2_driver, DriverDeleter> d(gsl_odeiv2_driver_alloc_y_new(&sys, type, h0, tol_abs, tol_rel));
+  if (!d) {
+    run.stop_failed(run.times[0], "gsl_odeiv2_driver_alloc_y_new failed");
+    return run.stats;
+  }
+
+  if (fixed) {
+    fixed_step_loop(run, y, [&](double t, double h, std::vector<double>& state) {
+      const int status = gsl_odeiv2_evolve_apply_fixed_step(d->e, nullptr, d->s, &sys, &t, h, state.data());
+      if (status == GSL_SUCCESS) return true;
+      if (status != GSL_EBADFUNC) {
+        run.stop_failed(t, "step failed: " + gsl_status(status) +
+                               (status == GSL_FAILURE ? ", the modified Newton iteration did not converge" : ""));
+      }
+      return false;
+    });
+    return run.stats;
+  }
+
+  double t = run.times[0];
+  double h = h0;
+  std::vector<double> y_old(run.n);
+  while (!run.done() && !run.stopped()) {
+    const std::size_t i = run.next_output();
+    const double t_target = run.times[i];
+    while (t < t_target) {
+      if (run.stats.steps >= run.settings.max_steps) {
+        run.stop_failed(t, "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
+        return run.stats;
+      }
+      const double t_old = t;
+      y_old = y;
+      const int status = gsl_odeiv2_evolve_apply(d->e, d->c, d->s, &sys, &t, t_target, &h, y.data());
+      run.stats.steps = d->e->count;
+      run.stats.rejected_steps = d->e->failed_steps;
+      if (status == GSL_EBADFUNC) {
+        if (!run.stop_on_rhs_failure()) run.stop_failed(t_old, "user function failed");
+        return run.stats;
+      }
+      if (status != GSL_SUCCESS) {
+        run.stop_failed(t_old, "evolve failed: " + gsl_status(status) +
+                                   (status == GSL_FAILURE ? ", the step size fell below the resolution of t" : ""));
+        return run.stats;
+      }
+      if (h < run.min_step() && t < t_target) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "step size underflow (h = %.3g, minimum %.3g)", h, run.min_step());
+        run.stop_failed(t, buf);
+        return run.stats;
+      }
+      if (!run.check_finite(t, y.data())) return run.stats;
+      if (run.singular_at(y.data())) {
+        run.stop_at_event(t_old, y_old.data(), t, y.data());
+        return run.stats;
+      }
+      if (run.ode.renormalizes()) run.ode.renormalize(y.data());
+    }
+    run.emit(i, y.data());
+  }
+  return run.stats;
+}
+
+}  // namespace lgvi::baselines::detail

@@ -1,0 +1,178 @@
+// Continuous equations of motion of the project's systems in the variables every coordinate
+// model shares: attitudes R_i, other configuration variables x, and a velocity state w (body
+// angular velocities and dx/dt for the single bodies; a multibody system may use momenta,
+// recovering the velocities by solving its mass matrix, e.g. eq. 37 or eq. 47).
+//
+// The physics (inertia, moment M of eq. 13, control moments, forces) comes from lgvi/systems;
+// what is written here is only the continuous-time form of the equations those systems'
+// headers state:
+//   free body, 3D pendulum (any AttitudeSystem):  J Omega' = J Omega x Omega + M(R) + tau(R, u)
+//   dumbbell:  J Omega' = J Omega x Omega + M(R, x) + u^m,   m v' = f(R, x) + u^f,   x' = v.
+//
+// A mechanics type M (checked by the Mechanics concept) provides
+//   bodies, positions, velocities          sizes N, NX, NW
+//   rates(config, w, rates)                Omega_i and x' from the velocity state
+//   acceleration(t, config, w)             w' (controls evaluated at t)
+//   velocity_state(config, Omega, x_dot)   w from the paper's variables (initial state)
+//   time_dependent()                       true when a control is set
+// and optionally
+//   rates_are_velocities = true            w = (Omega_1..Omega_N, x'): analytic rate Jacobian
+//   velocity_jacobian(t, config, w)        d acceleration / dw, analytic (NW x NW)
+// The model layer (baselines/model.hpp) differentiates the rest by central differences.
+#pragma once
+
+#include <array>
+#include <concepts>
+#include <functional>
+#include <utility>
+
+#include "lgvi/lgvi.hpp"
+#include "lgvi/so3.hpp"
+#include "lgvi/systems/dumbbell.hpp"
+#include "lgvi/types.hpp"
+
+namespace lgvi::baselines {
+
+template <int Rows>
+using Vector = Eigen::Matrix<double, Rows, 1>;
+
+/// Configuration: N attitudes and NX further coordinates (dumbbell position, cart position).
+template <int N, int NX>
+struct Configuration {
+  std::array<Mat3, N> R;
+  Vector<NX> x = Vector<NX>::Zero();
+};
+
+/// The velocities the kinematics need: body angular velocities and x'.
+template <int N, int NX>
+struct Rates {
+  std::array<Vec3, N> Omega;
+  Vector<NX> x_dot = Vector<NX>::Zero();
+};
+
+template <class M>
+concept Mechanics = requires(const M& m, double t, const typename M::Config& c, const typename M::Velocity& w,
+                             typename M::Rate& r, const std::array<Vec3, M::bodies>& Omega,
+                             const Vector<M::positions>& x_dot) {
+  { M::bodies } -> std::convertible_to<int>;
+  { M::positions } -> std::convertible_to<int>;
+  { M::velocities } -> std::convertible_to<int>;
+  requires std::same_as<typename M::Config, Configuration<M::bodies, M::positions>>;
+  requires std::same_as<typename M::Rate, Rates<M::bodies, M::positions>>;
+  requires std::same_as<typename M::Velocity, Vector<M::velocities>>;
+  m.rates(c, w, r);
+  { m.acceleration(t, c, w) } -> std::same_as<typename M::Velocity>;
+  { m.velocity_state(c, Omega, x_dot) } -> std::same_as<typename M::Velocity>;
+  { m.time_dependent() } -> std::convertible_to<bool>;
+};
+
+/// Euler's equation with the potential's moment and the control moment of an attitude system
+/// (free rigid body, 3D pendulum): w = Omega,
+///     Omega' = J^{-1} (J Omega x Omega + M(R) + tau(R, u(t))),
+/// with M = system.moment (eq. 13) and tau = system.control_moment (the pendulum's R^T e3 x u).
+/// Holds the system by reference (it must outlive the mechanics).
+template <AttitudeSystem S>
+class AttitudeMechanics {
+ public:
+  static constexpr int bodies = 1;
+  static constexpr int positions = 0;
+  static constexpr int velocities = 3;
+  static constexpr bool rates_are_velocities = true;
+  using System = S;
+  using Control = typename S::Control;
+  using Config = Configuration<1, 0>;
+  using Rate = Rates<1, 0>;
+  using Velocity = Vector<3>;
+
+  /// `control` may be empty (no control).
+  explicit AttitudeMechanics(const S& system, std::function<Control(double)> control = {})
+      : system_(system), control_(std::move(control)) {}
+
+  void rates(const Config& /*c*/, const Velocity& w, Rate& r) const { r.Omega[0] = w; }
+
+  Velocity acceleration(double t, const Config& c, const Velocity& w) const {
+    const Mat3& J = system_.inertia.J;
+    Vec3 torque = (J * w).cross(w) + system_.moment(c.R[0]);
+    if (control_) torque += system_.control_moment(c.R[0], control_(t));
+    return system_.inertia.J_inverse * torque;
+  }
+
+  /// J^{-1} (hat(J Omega) - hat(Omega) J): the derivative of J^{-1}(J Omega x Omega).
+  Mat3 velocity_jacobian(double /*t*/, const Config& /*c*/, const Velocity& w) const {
+    const Mat3& J = system_.inertia.J;
+    return system_.inertia.J_inverse * (so3::hat(J * w) - so3::hat(w) * J);
+  }
+
+  Velocity velocity_state(const Config& /*c*/, const std::array<Vec3, 1>& Omega, const Vector<0>& /*x_dot*/) const {
+    return Omega[0];
+  }
+  bool time_dependent() const { return static_cast<bool>(control_); }
+  const S& system() const { return system_; }
+
+ private:
+  const S& system_;
+  std::function<Control(double)> control_;
+};
+
+/// The dumbbell on SE(3): x, v inertial, w = (Omega, v),
+///     Omega' = J^{-1} (J Omega x Omega + M(R, x) + u^m(t)),   v' = (f(R, x) + u^f(t)) / m,
+/// with f and M from DumbbellSpacecraft::forces (one evaluation gives both).
+class DumbbellMechanics {
+ public:
+  static constexpr int bodies = 1;
+  static constexpr int positions = 3;
+  static constexpr int velocities = 6;
+  static constexpr bool rates_are_velocities = true;
+  using System = DumbbellSpacecraft;
+  using Control = DumbbellSpacecraft::Control;
+  using Config = Configuration<1, 3>;
+  using Rate = Rates<1, 3>;
+  using Velocity = Vector<6>;
+
+  explicit DumbbellMechanics(const DumbbellSpacecraft& system, std::function<Control(double)> control = {})
+      : system_(system), control_(std::move(control)) {}
+
+  void rates(const Config& /*c*/, const Velocity& w, Rate& r) const {
+    r.Omega[0] = w.head<3>();
+    r.x_dot = w.tail<3>();
+  }
+
+  Velocity acceleration(double t, const Config& c, const Velocity& w) const {
+    const DumbbellSpacecraft::Forces f = system_.forces(c.R[0], c.x);
+    const Mat3& J = system_.inertia.J;
+    const Vec3 Omega = w.head<3>();
+    Vec3 torque = (J * Omega).cross(Omega) + f.moment;
+    Vec3 force = f.force;
+    if (control_) {
+      const Control u = control_(t);
+      torque += u.moment;
+      force += u.force;
+    }
+    Velocity a;
+    a.head<3>() = system_.inertia.J_inverse * torque;
+    a.tail<3>() = force / system_.mass;
+    return a;
+  }
+
+  Eigen::Matrix<double, 6, 6> velocity_jacobian(double /*t*/, const Config& /*c*/, const Velocity& w) const {
+    const Mat3& J = system_.inertia.J;
+    const Vec3 Omega = w.head<3>();
+    Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
+    D.topLeftCorner<3, 3>() = system_.inertia.J_inverse * (so3::hat(J * Omega) - so3::hat(Omega) * J);
+    return D;
+  }
+
+  Velocity velocity_state(const Config& /*c*/, const std::array<Vec3, 1>& Omega, const Vector<3>& x_dot) const {
+    Velocity w;
+    w << Omega[0], x_dot;
+    return w;
+  }
+  bool time_dependent() const { return static_cast<bool>(control_); }
+  const DumbbellSpacecraft& system() const { return system_; }
+
+ private:
+  const DumbbellSpacecraft& system_;
+  std::function<Control(double)> control_;
+};
+
+}  // namespace lgvi::baselines

@@ -1,0 +1,183 @@
+// Boost.Odeint (1.74): classic RK4 (fixed step), Dormand-Prince 5(4) with dense output,
+// Runge-Kutta-Fehlberg 7(8) with error control (steps land on each requested time: odeint has
+// no dense output for it), Bulirsch-Stoer with dense output. State type std::vector<double>
+// (allocated once by the steppers' resizers). A right-hand-side failure is thrown out of the
+// system functor and turned into the status here; odeint's own exceptions (step size
+// adjustment failing 500 times in a row) become SolverFailed.
+#include <boost/numeric/odeint.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "baselines/solver_detail.hpp"
+
+namespace lgvi::baselines::detail {
+
+namespace {
+
+namespace odeint = boost::numeric::odeint;
+using State = std::vector<double>;
+
+struct RhsFailure {};
+
+struct System {
+  Run* run;
+  void operator()(const State& y, State& dydt, double t) const {
+    if (!run->rhs(t, y.data(), dydt.data())) throw RhsFailure{};
+  }
+};
+
+/// Dense-output steppers (dopri5, Bulirsch-Stoer): step freely, interpolate the requested times,
+/// watch the event, renormalize by re-initializing (see solver.hpp for the cost).
+template <class Stepper>
+void dense_loop(Run& run, State& y, Stepper& stepper) {
+  const System system{&run};
+  const double t_end = run.times.back();
+  stepper.initialize(y, run.times[0], run.initial_step());
+  State x(run.n);
+  while (!run.done() && !run.stopped()) {
+    if (run.stats.steps >= run.settings.max_steps) {
+      run.stop_failed(stepper.current_time(),
+                      "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
+      return;
+    }
+    const auto [t0, t1] = stepper.do_step(system);
+    ++run.stats.steps;
+    if (t1 - t0 < run.min_step() && t1 < t_end) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "step size underflow (dt = %.3g, minimum %.3g)", t1 - t0, run.min_step());
+      run.stop_failed(t0, buf);
+      return;
+    }
+    const State& y1 = stepper.current_state();
+    if (!run.check_finite(t1, y1.data())) return;
+    double t_stop = t1;
+    bool singular = false;
+    if (run.singular_at(y1.data())) {
+      // Locate the root on the stepper's own dense output (bisection).
+      double lo = t0, hi = t1;
+      for (int k = 0; k < 200 && hi - lo > 4e-16 * std::max(std::abs(lo), std::abs(hi)); ++k) {
+        const double mid = 0.5 * (lo + hi);
+        stepper.calc_state(mid, x);
+        (run.ode.singularity_function(x.data()) > 0.0 ? lo : hi) = mid;
+      }
+      t_stop = hi;
+      singular = true;
+    }
+    while (!run.done() && run.times[run.next_output()] <= std::min(t_stop, t_end)) {
+      const std::size_t i = run.next_output();
+      if (singular && run.times[i] >= t_stop) break;
+      if (run.times[i] == t1) {
+        x = y1;
+      } else {
+        stepper.calc_state(run.times[i], x);
+      }
+      if (!run.emit(i, x.data())) return;
+    }
+    if (singular) {
+      stepper.calc_state(t_stop, x);
+      run.stop_singular(t_stop, x.data());
+      return;
+    }
+    if (run.ode.renormalizes() && !run.done()) {
+      x = y1;
+      run.ode.renormalize(x.data());
+      stepper.initialize(x, t1, stepper.current_time_step());
+    }
+  }
+}
+
+/// Error-controlled stepper without dense output (rkf78): try_step loop that lands exactly on
+/// every requested time; the step size suggested by the last unclipped step is kept across
+/// output times so that a fine output grid does not reset it.
+template <class Stepper>
+void controlled_loop(Run& run, State& y, Stepper& stepper) {
+  const System system{&run};
+  double t = run.times[0];
+  double dt_free = run.initial_step();
+  State y_old(run.n);
+  while (!run.done() && !run.stopped()) {
+    const std::size_t i = run.next_output();
+    const double t_target = run.times[i];
+    while (t < t_target) {
+      if (run.stats.steps >= run.settings.max_steps) {
+        run.stop_failed(t, "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
+        return;
+      }
+      const bool clipped = t + dt_free >= t_target;
+      double dt = clipped ? t_target - t : dt_free;
+      const double t_old = t;
+      y_old = y;
+      std::size_t fails = 0;
+      while (stepper.try_step(system, y, t, dt) == odeint::fail) {
+        ++run.stats.rejected_steps;
+        if (++fails >= 500 || dt < run.min_step()) {
+          char buf[160];
+          std::snprintf(buf, sizeof buf, "step size underflow (dt = %.3g, minimum %.3g, %zu rejected attempts)", dt,
+                        run.min_step(), fails);
+          run.stop_failed(t, buf);
+          return;
+        }
+      }
+      ++run.stats.steps;
+      if (clipped && t_target - t < 1e-14 * std::max(1.0, std::abs(t_target))) t = t_target;
+      if (!clipped || dt > dt_free) dt_free = dt;
+      if (!run.check_finite(t, y.data())) return;
+      if (run.singular_at(y.data())) {
+        run.stop_at_event(t_old, y_old.data(), t, y.data());
+        return;
+      }
+      if (run.ode.renormalizes()) run.ode.renormalize(y.data());
+    }
+    if (!run.emit(i, y.data())) return;
+  }
+}
+
+void dispatch(Run& run, State& y) {
+  const std::string& m = run.method;
+  if (m == "odeint-rk4") {
+    odeint::runge_kutta4<State> stepper;
+    const System system{&run};
+    fixed_step_loop(run, y, [&](double t, double h, State& state) {
+      stepper.do_step(system, state, t, h);
+      return true;
+    });
+    return;
+  }
+  const double rtol = *run.settings.rtol, atol = *run.settings.atol;
+  if (m == "odeint-dopri5") {
+    auto stepper = odeint::make_dense_output(atol, rtol, odeint::runge_kutta_dopri5<State>());
+    dense_loop(run, y, stepper);
+  } else if (m == "odeint-rkf78") {
+    auto stepper = odeint::make_controlled(atol, rtol, odeint::runge_kutta_fehlberg78<State>());
+    controlled_loop(run, y, stepper);
+  } else if (m == "odeint-bs") {
+    // Error factors as odeint's defaults (|y| and dt |y'|); the interpolation error is
+    // controlled too, since the requested times are interpolated.
+    odeint::bulirsch_stoer_dense_out<State> stepper(atol, rtol, 1.0, 1.0, 0.0, true);
+    dense_loop(run, y, stepper);
+  } else {
+    throw std::logic_error("odeint adapter: unknown method " + m);
+  }
+}
+
+}  // namespace
+
+Stats run_odeint(Run& run, std::vector<double>& y) {
+  if (run.done()) return run.stats;
+  try {
+    dispatch(run, y);
+  } catch (const RhsFailure&) {
+    run.stop_on_rhs_failure();
+  } catch (const odeint::step_adjustment_error& e) {
+    run.stop_failed(run.times[run.next_output() - 1], std::string("odeint: ") + e.what());
+  } catch (const odeint::no_progress_error& e) {
+    run.stop_failed(run.times[run.next_output() - 1], std::string("odeint: ") + e.what());
+  }
+  return run.stats;
+}
+
+}  // namespace lgvi::baselines::detail

@@ -1,0 +1,120 @@
+// Solver adapters behind one interface: a method name, a model (an Ode), settings (a fixed step h
+// or tolerances rtol/atol) -> the state at requested times and the project's Stats.
+//
+// Methods (see solver_list() for one-line descriptions):
+//   cvode-adams, cvode-bdf     SUNDIALS CVODE, variable order; Newton iteration with a dense
+//                              direct linear solver and the model's Jacobian (or CVODE's
+//                              difference quotient); dense output at the requested times
+//   odeint-rk4                 Boost.Odeint classic Runge-Kutta 4, fixed step
+//   odeint-dopri5              Dormand-Prince 5(4), error control and dense output
+//   odeint-rkf78               Runge-Kutta-Fehlberg 7(8), error control; lands on each
+//                              requested time (no dense output in odeint)
+//   odeint-bs                  Bulirsch-Stoer (dense-output variant)
+//   gsl-rk8pd                  GSL odeiv2 Prince-Dormand 8(9), error control; lands on each time
+//   gsl-rk4imp                 GSL odeiv2 implicit Gauss-Legendre (2 stages, order 4,
+//                              symplectic), fixed step; modified Newton with the model's Jacobian
+//   gsl-msbdf                  GSL odeiv2 variable-order BDF (Nordsieck), error control
+//
+// Error control: every adaptive method keeps the local error of component i below
+// atol + rtol |y_i| (CVODE: in a weighted RMS norm; odeint, GSL: componentwise, odeint adds the
+// rtol dt |y_i'| term of its default checker). Global errors are a modest multiple of rtol on
+// these rigid-body models (tests/baselines measure it).
+//
+// Renormalization (the quaternion-renormalized model) needs a post-step hook:
+//   cvode-bdf             CVODE's projection interface (CVodeSetProjFn): q <- q/|q| after each
+//                         step, the error estimate projected on the tangent space; no restart
+//   odeint-rk4, gsl-rk4imp  after each fixed step, free
+//   odeint-rkf78, gsl-rk8pd  stepping in a loop, normalizing between accepted steps; they keep
+//                         no history, so it costs nothing extra
+//   odeint-dopri5         same loop; the stepper must be re-initialized with the normalized state,
+//                         which discards its first-same-as-last derivative: +1 RHS per step
+//                         (measured +15% RHS evaluations, same steps)
+//   odeint-bs             same loop; re-initializing resets the extrapolation's "first step" flag
+//                         and costs one derivative: measured +1-2% RHS evaluations, same steps
+//   (cvode-bdf's projection: +0-3% steps; rkf78, rk8pd: no cost; baselines/README.md)
+//   cvode-adams, gsl-msbdf  rejected: modifying the state between steps would restart their
+//                         multistep history at order 1 on every step (CVODE offers projection for
+//                         BDF only)
+//
+// Gimbal lock (Euler model): the event function is acos(sqrt(eps)) - |pitch| (see
+// baselines/coordinates.hpp); CVODE watches it with its root finder (direction: decreasing);
+// the other solvers evaluate it after every step and, on a sign change, find the root on the cubic
+// Hermite interpolant of the step (exact for states cubic in t, O(h^4) otherwise). A right-hand
+// side evaluated on the singular set (a stage that lands there) stops the run too, at that time.
+// Either way: status CoordinateSingularity, failed_time the time, failure_detail the angle.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "baselines/ode.hpp"
+#include "lgvi/integrate.hpp"
+
+namespace lgvi::baselines {
+
+enum class StepControl { Fixed, Adaptive };
+
+struct SolverInfo {
+  std::string name;
+  StepControl step_control;
+  bool post_step_hook;  ///< can renormalize after every step without restarting a history
+  std::string description;
+};
+
+/// Every baseline method, in the order of the list above.
+const std::vector<SolverInfo>& solver_list();
+std::vector<std::string> solver_names();
+/// Throws InvalidInput("method", ...) for an unknown name (listing the known ones).
+const SolverInfo& solver_info(const std::string& name);
+
+enum class JacobianSource {
+  Analytic,            ///< the model's Jacobian (baselines/model.hpp)
+  DifferenceQuotient,  ///< CVODE's internal difference quotient (CVODE only)
+};
+
+/// Default relative tolerance of the adaptive methods; atol defaults to rtol (the states are
+/// O(1): quaternion and matrix entries are bounded by 1, angles by pi, rates of order 1-10; with
+/// atol = rtol the control is rtol (1 + |y_i|), which does not collapse at zero crossings).
+inline constexpr double kDefaultRtol = 1e-6;
+
+struct SolverSettings {
+  std::optional<double> h;     ///< fixed-step methods: the step (required; forbidden otherwise)
+  std::optional<double> rtol;  ///< adaptive methods (default kDefaultRtol; forbidden for fixed)
+  std::optional<double> atol;  ///< adaptive methods (default rtol)
+  std::size_t max_steps = 50'000'000;  ///< step budget over the whole run (CVODE: its mxstep)
+  JacobianSource jacobian = JacobianSource::Analytic;
+  /// gsl-rk4imp: error level of its modified Newton iteration, |dY_i| < tol (1 + |y_i|). GSL
+  /// allows 7 iterations and fails on any non-contracting one, so it cannot be round-off.
+  double newton_tolerance = 1e-12;
+  /// First step of the adaptive methods that need one (odeint, GSL); CVODE estimates its own.
+  /// 0: 1e-3 of the first output interval.
+  double initial_step = 0.0;
+};
+
+/// The settings with defaults filled in, checked against the method and the model. Throws
+/// InvalidInput naming the option: "h" (fixed-step method without a positive finite h, or an
+/// adaptive method given one), "rtol"/"atol" (given to a fixed-step method, or not positive),
+/// "model" (a renormalized model with a method without a post-step hook), "jacobian"
+/// (difference quotient requested from a non-CVODE method).
+SolverSettings resolve_settings(const SolverInfo& info, const SolverSettings& settings, const Ode& ode);
+
+/// Receives the state at times[index]; returning false stops the run (ObserverStopped).
+using SampleObserver = std::function<bool(std::size_t index, double t, const double* y)>;
+
+/// Integrates `ode` from y0 at times[0], calling observer(i, times[i], y(times[i])) for i = 0,
+/// 1, ... (times strictly increasing and finite; fixed-step methods need every interval to be a
+/// whole number of steps h, to 1e-9 relative) until times.back() or the first failure:
+///   SolverFailed           a solver flag (named, with the solver's message and the time reached)
+///                          or a non-finite state or right-hand side;
+///   CoordinateSingularity  the model's singular set (the time and the angle).
+/// Samples are delivered only for times before the failure. Never prints (CVODE's and GSL's
+/// error handlers are redirected into the status). Throws InvalidInput for bad settings (see
+/// resolve_settings) or bad times/initial state.
+Stats integrate(const std::string& method, const Ode& ode, std::span<const double> y0, std::span<const double> times,
+                const SolverSettings& settings, const SampleObserver& observer);
+
+}  // namespace lgvi::baselines

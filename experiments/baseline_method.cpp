@@ -1,0 +1,187 @@
+// The continuous-time baselines as Methods: a solver (baselines/solver.hpp) on a coordinate model
+// (baselines/model.hpp) of the scene's system, sampled on the scene's output grid
+// (t_k = k h for k = 0, output_every, 2 output_every, ..., steps), so that the CSV rows line up
+// with the LGVI's. Fixed-step solvers step with the scene's h; adaptive ones with rtol/atol.
+// Controls are the scene's functions of time, evaluated wherever the solver asks.
+#include <cstdint>
+#include <type_traits>
+#include <variant>
+
+#include "baselines/mechanics.hpp"
+#include "baselines/model.hpp"
+#include "baselines/solver.hpp"
+#include "experiments/method.hpp"
+
+namespace lgvi::experiments {
+
+namespace {
+
+using baselines::CoordinateModel;
+using baselines::CoordinateOde;
+using baselines::SolverSettings;
+using baselines::StepControl;
+
+class BaselineMethod final : public Method {
+ public:
+  BaselineMethod(const baselines::SolverInfo& info, CoordinateModel model, SolverSettings settings)
+      : info_(info), model_(model), settings_(std::move(settings)) {}
+
+  std::string name() const override { return info_.name; }
+
+  Fields settings(const Scene& scene) const override {
+    Fields f = {{"model", std::string(baselines::to_string(model_))}};
+    if (info_.step_control == StepControl::Fixed) {
+      f.push_back({"step", scene.horizon.h});
+    } else {
+      f.push_back({"rtol", *settings_.rtol});
+      f.push_back({"atol", *settings_.atol});
+    }
+    if (info_.name.rfind("cvode-", 0) == 0 || info_.name == "gsl-rk4imp" || info_.name == "gsl-msbdf") {
+      f.push_back({"jacobian", std::string("analytic kinematics, central differences of the potential terms")});
+    }
+    if (info_.name == "gsl-rk4imp") f.push_back({"newton_tolerance", settings_.newton_tolerance});
+    f.push_back({"sampling", std::string("output grid (every output_every-th step)")});
+    return f;
+  }
+
+  bool records_quaternion_norm() const override {
+    return model_ == CoordinateModel::Quaternion || model_ == CoordinateModel::QuaternionRenormalized;
+  }
+
+  Stats run(const Scene& scene, Recorder& recorder) const override {
+    return std::visit([&](const auto& m) { return run_system(scene, m, recorder); }, scene.model);
+  }
+
+ private:
+  template <class SceneModel>
+  Stats run_system(const Scene& scene, const SceneModel& m, Recorder& recorder) const {
+    if constexpr (std::is_same_v<SceneModel, CartPendulumModel> || std::is_same_v<SceneModel, ConnectedBodiesModel>) {
+      (void)m;
+      (void)recorder;
+      throw InvalidInput("method", std::string("no continuous-time model of the ") + SceneModel::name +
+                                       " in baselines/ yet (scene '" + scene.name + "'): use --method lgvi");
+    } else if constexpr (std::is_same_v<SceneModel, DumbbellModel>) {
+      auto control = std::function<DumbbellSpacecraft::Control(double)>{};
+      if (m.force_control || m.moment_control) {
+        control = [&m](double t) {
+          DumbbellSpacecraft::Control u;
+          if (m.force_control) u.force = (*m.force_control)(t);
+          if (m.moment_control) u.moment = (*m.moment_control)(t);
+          return u;
+        };
+      }
+      const baselines::DumbbellMechanics mech(m.system, control);
+      return run_chart(scene, mech, {m.initial.R}, {m.initial.Omega}, m.initial.x, m.initial.v, recorder);
+    } else if constexpr (!std::is_same_v<SceneModel, FreeBodyModel> && !std::is_same_v<SceneModel, PendulumModel>) {
+      // Any later system without a Mechanics type (baselines/README.md says what one needs).
+      // Thrown before anything is written: the CSV is committed only after run().
+      throw InvalidInput("method", info_.name + ": no continuous-time model of the " + std::string(SceneModel::name) +
+                                       " system yet (baselines cover free-body, pendulum, dumbbell)");
+    } else {
+      using System = std::decay_t<decltype(m.system)>;
+      auto control = std::function<Vec3(double)>{};
+      if (m.control) control = [&m](double t) -> Vec3 { return (*m.control)(t); };
+      const baselines::AttitudeMechanics<System> mech(m.system, control);
+      return run_chart(scene, mech, {m.initial.R}, {m.initial.Omega}, baselines::Vector<0>(), baselines::Vector<0>(),
+                       recorder);
+    }
+  }
+
+  template <class Mech>
+  Stats run_chart(const Scene& scene, const Mech& mech, const std::array<Mat3, 1>& R, const std::array<Vec3, 1>& Omega,
+                  const baselines::Vector<Mech::positions>& x, const baselines::Vector<Mech::positions>& v,
+                  Recorder& recorder) const {
+    switch (model_) {
+      case CoordinateModel::Quaternion:
+        return run_model(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech), R, Omega, x, v, recorder);
+      case CoordinateModel::QuaternionRenormalized:
+        return run_model(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech, true), R, Omega, x, v, recorder);
+      case CoordinateModel::Euler:
+        return run_model(scene, CoordinateOde<baselines::EulerChart, Mech>(mech), R, Omega, x, v, recorder);
+      case CoordinateModel::Matrix:
+        return run_model(scene, CoordinateOde<baselines::MatrixChart, Mech>(mech), R, Omega, x, v, recorder);
+    }
+    throw InvalidInput("model", "unknown model");
+  }
+
+  template <class Ode, int NX>
+  Stats run_model(const Scene& scene, const Ode& ode, const std::array<Mat3, 1>& R, const std::array<Vec3, 1>& Omega,
+                  const baselines::Vector<NX>& x, const baselines::Vector<NX>& v, Recorder& recorder) const {
+    const Horizon& hz = scene.horizon;
+    const auto y0 = ode.initial_state(R, Omega, x, v);
+    // The output grid: k = 0, every, 2 every, ..., and the last step.
+    std::vector<std::size_t> ks;
+    for (std::size_t k = 0; k <= hz.steps; k += hz.output_every) ks.push_back(k);
+    if (ks.back() != hz.steps) ks.push_back(hz.steps);
+    std::vector<double> times;
+    times.reserve(ks.size());
+    for (const std::size_t k : ks) times.push_back(static_cast<double>(k) * hz.h);
+
+    SolverSettings s = settings_;
+    if (info_.step_control == StepControl::Fixed) s.h = hz.h;
+    Sample sample;
+    const auto observer = [&](std::size_t i, double t, const double* y) {
+      const auto d = ode.decode(y);
+      sample.t = t;
+      sample.R = d.config.R[0];
+      sample.Omega = d.rates.Omega[0];
+      if constexpr (NX == 3) {
+        sample.x = d.config.x;
+        sample.v = d.rates.x_dot;
+      }
+      sample.quaternion_norm_error = d.quaternion_norm_error[0];
+      sample.newton_iterations = 0;
+      recorder.record(ks[i], sample);
+      return true;
+    };
+    return baselines::integrate(info_.name, ode, std::span<const double>(y0.data(), y0.size()), times, s, observer);
+  }
+
+  baselines::SolverInfo info_;
+  CoordinateModel model_;
+  SolverSettings settings_;
+};
+
+/// A trivially valid ODE of each model kind, only to check settings against a model at
+/// construction (renormalization needs a post-step hook).
+class ModelProbe final : public baselines::Ode {
+ public:
+  explicit ModelProbe(bool renormalizes) : renormalizes_(renormalizes) {}
+  int dimension() const override { return 1; }
+  std::string model_name() const override { return "probe"; }
+  baselines::RhsStatus rhs(double, const double*, double* f) const override {
+    f[0] = 0.0;
+    return baselines::RhsStatus::Ok;
+  }
+  baselines::RhsStatus jacobian(double, const double*, double* J) const override {
+    J[0] = 0.0;
+    return baselines::RhsStatus::Ok;
+  }
+  bool time_dependent() const override { return false; }
+  bool renormalizes() const override { return renormalizes_; }
+
+ private:
+  bool renormalizes_;
+};
+
+}  // namespace
+
+std::unique_ptr<Method> make_baseline_method(const std::string& name, const MethodOptions& options) {
+  const baselines::SolverInfo& info = baselines::solver_info(name);
+  if (!options.model) {
+    std::string known;
+    for (const std::string& n : baselines::coordinate_model_names()) known += (known.empty() ? "" : "|") + n;
+    throw InvalidInput("model", name + " needs a coordinate model (--model " + known + ")");
+  }
+  const CoordinateModel model = baselines::parse_coordinate_model(*options.model);
+  SolverSettings settings;
+  settings.rtol = options.rtol;
+  settings.atol = options.atol;
+  if (info.step_control == StepControl::Fixed) settings.h = 1.0;  // the scene's h replaces it in run()
+  const ModelProbe probe(model == CoordinateModel::QuaternionRenormalized);
+  settings = baselines::resolve_settings(info, settings, probe);
+  if (info.step_control == StepControl::Fixed) settings.h.reset();
+  return std::make_unique<BaselineMethod>(info, model, settings);
+}
+
+}  // namespace lgvi::experiments

@@ -1,0 +1,43 @@
+// `lgvi-testbed ocp dumbbell|pendulum`: the indirect discrete optimal control of sections 3.1
+// and 3.2 (lgvi/ocp/indirect.hpp). Writes, atomically, into --out DIR:
+//   ocp-SYSTEM-history.csv     one row per outer Newton-Armijo iteration
+//   ocp-SYSTEM-trajectory.csv  t, state, controls, multipliers at every node
+//   ocp-SYSTEM-summary.json    cost, violation, iterations, condition numbers, wall time, status
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace lgvi::experiments {
+
+/// The options of the `ocp` subcommand, filled by CLI11.
+struct OcpCommand {
+  std::string system;       ///< "dumbbell" or "pendulum"
+  std::string form = "printed";
+  double h = 0.0;           ///< 0: the default step (see ocp_command.cpp)
+  long long steps = 0;      ///< alternative to h: t_final / steps
+  bool no_decomposition = false;
+  std::string merit = "velocity";
+  std::vector<double> guess;  ///< lambda_0; empty: the documented default
+  int max_iterations = 300;
+  double t_final = 0.0;        ///< 0: the paper's horizon
+  double sphere_radius = 0.0;  ///< dumbbell only; 0: DumbbellSpacecraft::paper()'s 0.05
+  std::string out = "results/ocp";
+};
+
+/// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive
+/// parsing). Returns the subcommand, whose parsed() says whether it was chosen.
+CLI::App* add_ocp_command(CLI::App& app, OcpCommand& options);
+
+/// Runs it: solves, writes the three files, prints the summary line to `out`. Returns the exit
+/// status: 0 converged, 2 not converged (files written; the status says why), 1 bad input
+/// (one "error:" line on `err`). Throws OutputError when files cannot be written.
+int run_ocp_command(const OcpCommand& options, const std::string& command_line, std::ostream& out,
+                    std::ostream& err);
+
+}  // namespace lgvi::experiments

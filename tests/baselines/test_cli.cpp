@@ -1,0 +1,137 @@
+// lgvi-testbed simulate --method ... --model ... end to end: the same CSV columns as the LGVI
+// (plus quaternion_norm_error for the quaternion models), settings in the metadata, bad
+// combinations as one-line errors with exit 1 and no file, gimbal lock and solver failures as
+// exit 2 with the CSV of the samples before the stop.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <numbers>
+
+#include "baselines/coordinates.hpp"
+#include "experiments/cli_support.hpp"
+
+namespace lgvi::test {
+namespace {
+
+void expect_bad_input(const TempDir& dir, const CliResult& r, const std::vector<std::string>& needles) {
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const std::vector<std::string> lines = r.err_lines();
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_EQ(lines[0].rfind("error: ", 0), 0u) << lines[0];
+  for (const std::string& n : needles) EXPECT_NE(lines[0].find(n), std::string::npos) << "'" << n << "' not in: " << lines[0];
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_TRUE(dir.work_entries().empty());
+}
+
+TEST(CliBaselines, BadCombinationsAreOneLineErrors) {
+  const std::vector<std::pair<std::vector<std::string>, std::vector<std::string>>> cases = {
+      {{"--method", "rk45", "--model", "quaternion"}, {"method", "unknown method 'rk45'", "cvode-bdf", "lgvi"}},
+      {{"--method", "cvode-bdf", "--model", "rodrigues"}, {"model", "unknown model 'rodrigues'", "euler"}},
+      {{"--method", "cvode-bdf"}, {"model", "cvode-bdf needs a coordinate model"}},
+      {{"--method", "odeint-rk4", "--model", "euler", "--rtol", "1e-8"}, {"rtol", "fixed-step method"}},
+      {{"--method", "gsl-rk8pd", "--model", "euler", "--atol", "-1"}, {"atol", "> 0"}},
+      {{"--model", "quaternion"}, {"model", "LGVI"}},
+      {{"--rtol", "1e-8"}, {"rtol", "LGVI"}},
+      {{"--method", "cvode-adams", "--model", "quaternion-renormalized"}, {"model", "no post-step hook"}},
+      {{"--method", "gsl-msbdf", "--model", "quaternion", "--form", "printed"}, {"--form", "LGVI only"}},
+      {{"--method", "gsl-msbdf", "--model", "quaternion", "--rtol", "abc"}, {"--rtol"}},
+  };
+  for (const auto& [extra, needles] : cases) {
+    TempDir dir;
+    std::vector<std::string> args = {"simulate", "pendulum", "--t-final", "0.01"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    expect_bad_input(dir, run_testbed(dir, args), needles);
+  }
+}
+
+TEST(CliBaselines, WritesTheLgviColumnsOnTheLgviGrid) {
+  TempDir dir;
+  const CliResult lgvi = run_testbed(dir, {"simulate", "pendulum", "--t-final", "0.105", "--out", "lgvi.csv"});
+  ASSERT_EQ(lgvi.exit_code, 0) << lgvi.err;
+  const CsvParts ref = read_csv(dir.work() / "lgvi.csv");
+  for (const std::string model : {"matrix", "euler", "quaternion", "quaternion-renormalized"}) {
+    for (const std::string method : {"odeint-rk4", "cvode-bdf"}) {
+      const std::string out = method + "-" + model + ".csv";
+      std::vector<std::string> args = {"simulate", "pendulum", "--t-final", "0.105", "--method", method,
+                                       "--model", model, "--out", out};
+      if (method == "cvode-bdf") args.insert(args.end(), {"--rtol", "1e-10"});
+      const CliResult r = run_testbed(dir, args);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      EXPECT_TRUE(r.err.empty()) << r.err;
+      ASSERT_EQ(lines_of(r.out).size(), 1u) << r.out;
+      EXPECT_EQ(r.out.rfind("completed ", 0), 0u) << r.out;
+      EXPECT_NE(r.out.find("RHS evaluations"), std::string::npos) << r.out;
+      const CsvParts csv = read_csv(dir.work() / out);
+      EXPECT_EQ(csv.meta("method"), method);
+      EXPECT_EQ(csv.meta("model"), model);
+      if (method == "odeint-rk4") {
+        EXPECT_EQ(csv.meta("step"), "0.001");
+      } else {
+        EXPECT_EQ(csv.meta("rtol"), "1e-10");
+        EXPECT_EQ(csv.meta("atol"), "1e-10");
+      }
+      EXPECT_EQ(csv.meta("steps"), "105");
+      std::vector<std::string> header = ref.header;
+      if (model.rfind("quaternion", 0) == 0) {
+        header.insert(header.begin() + static_cast<long>(ref.column("determinant_error")) + 1, "quaternion_norm_error");
+      }
+      EXPECT_EQ(csv.header, header);
+      ASSERT_EQ(csv.rows.size(), ref.rows.size());  // k = 0, 20, ..., 100 and the last step 105
+      for (std::size_t k = 0; k < csv.rows.size(); ++k) {
+        EXPECT_EQ(csv.rows[k][0], ref.rows[k][0]);  // the same grid times
+        // Same motion: the (second-order) LGVI's own error at h = 1e-3 over 0.1 s is ~3e-5 here.
+        for (const char* col : {"R11", "R23", "R32", "Omega1", "Omega3"}) {
+          EXPECT_NEAR(csv.rows[k][csv.column(col)], ref.rows[k][ref.column(col)], 1e-4) << col;
+        }
+        EXPECT_LT(csv.rows[k][csv.column("orthogonality_error")], 1e-7);
+      }
+    }
+  }
+}
+
+std::string matrix_toml(const Mat3& R) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "[[%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g]]", R(0, 0),
+                R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2));
+  return buf;
+}
+
+TEST(CliBaselines, GimbalLockExitsTwoWithTheCompletedSamples) {
+  // Steady spin of a symmetric body that takes the pitch linearly through 90 deg (see
+  // test_gimbal.cpp): stop at t = (acos(sqrt(eps)) - 0.2) / 2.
+  TempDir dir;
+  const double phi = 0.3, theta = 0.2, psi = -0.4, w = 2.0;
+  const Mat3 R0 = baselines::EulerChart::rotation(baselines::EulerChart::Coords(phi, theta, psi));
+  char omega[128];
+  std::snprintf(omega, sizeof omega, "[0.0, %.17g, %.17g]", w * std::cos(phi), -w * std::sin(phi));
+  const std::string scene = "system = \"free-body\"\n[parameters]\ninertia = [0.2, 0.3, 0.3]\n[initial]\nR = " +
+                            matrix_toml(R0) + "\nOmega = " + omega +
+                            "\n[integration]\nh = 0.01\nt_final = 2.0\noutput_every = 5\n";
+  write_text(dir.scenes() / "spin.toml", scene);
+  const CliResult r = run_testbed(
+      dir, {"simulate", (dir.scenes() / "spin.toml").string(), "--method", "odeint-dopri5", "--model", "euler", "--out",
+            "spin.csv"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("coordinate singularity at t = 0.68539815594"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("gimbal lock: pitch theta = 89.99999"), std::string::npos) << r.err;
+  const CsvParts csv = read_csv(dir.work() / "spin.csv");
+  EXPECT_EQ(csv.meta("status").rfind("coordinate singularity at t = 0.68539815594", 0), 0u) << csv.meta("status");
+  ASSERT_FALSE(csv.rows.empty());
+  EXPECT_NEAR(csv.rows.back()[0], 0.65, 1e-12);  // the last output time before the stop (every 0.05 s)
+  EXPECT_EQ(csv.rows.size(), 14u);
+}
+
+TEST(CliBaselines, SolverFailureExitsTwo) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"simulate", "pendulum", "--method", "cvode-bdf", "--model", "matrix", "--rtol",
+                                        "1e-300", "--out", "f.csv"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("solver failed at t = 0 after 0 steps: cvode-bdf: CV_TOO_MUCH_ACC"), std::string::npos) << r.err;
+  const CsvParts csv = read_csv(dir.work() / "f.csv");
+  EXPECT_EQ(csv.rows.size(), 1u);
+}
+
+}  // namespace
+}  // namespace lgvi::test

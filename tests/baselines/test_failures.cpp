@@ -1,0 +1,131 @@
+// Failures surface as statuses with the time reached (CVODE's flags, GSL's and odeint's step
+// failures, the step budget), bad settings as InvalidInput naming the option, and nothing prints.
+#include <gtest/gtest.h>
+
+#include "baseline_cases.hpp"
+
+namespace lgvi::test {
+namespace {
+
+const Pendulum3D& pendulum() {
+  static const Pendulum3D p = Pendulum3D::paper();
+  return p;
+}
+
+Trajectory run_pendulum(const std::string& method, CoordinateModel model, const SolverSettings& s,
+                        double T = 2.0) {
+  return run_attitude(method, model, pendulum(), {}, pendulum_R0(), pendulum_Omega0(), uniform_times(T, 20), s);
+}
+
+TEST(CvodeFailure, TooMuchWorkIsAStatusWithTheTimeReached) {
+  for (const std::string method : {"cvode-adams", "cvode-bdf"}) {
+    SolverSettings s = adaptive(1e-10);
+    s.max_steps = 10;
+    const Trajectory tr = run_pendulum(method, CoordinateModel::Quaternion, s);
+    std::cout << "[ status   ] " << tr.stats.brief() << "\n";
+    EXPECT_EQ(tr.stats.status, IntegrationStatus::SolverFailed);
+    EXPECT_NE(tr.stats.failure_detail.find("CV_TOO_MUCH_WORK"), std::string::npos) << tr.stats.failure_detail;
+    EXPECT_EQ(tr.stats.steps, 10u);
+    // The time CVODE reached after its 10 steps: past the start, before the first output.
+    EXPECT_GT(tr.stats.failed_time, 0.0);
+    EXPECT_LT(tr.stats.failed_time, 0.1);
+    EXPECT_EQ(tr.t.size(), 1u);  // only the initial sample
+    EXPECT_NE(tr.stats.brief().find("solver failed at t = "), std::string::npos);
+  }
+}
+
+TEST(CvodeFailure, TooMuchAccuracyIsAStatus) {
+  const Trajectory tr = run_pendulum("cvode-bdf", CoordinateModel::Matrix, adaptive(1e-300));
+  std::cout << "[ status   ] " << tr.stats.brief() << "\n";
+  EXPECT_EQ(tr.stats.status, IntegrationStatus::SolverFailed);
+  EXPECT_NE(tr.stats.failure_detail.find("CV_TOO_MUCH_ACC"), std::string::npos) << tr.stats.failure_detail;
+}
+
+TEST(StepBudget, EveryLibraryReportsIt) {
+  for (const std::string method : {"odeint-rk4", "odeint-dopri5", "odeint-rkf78", "odeint-bs", "gsl-rk8pd",
+                                   "gsl-rk4imp", "gsl-msbdf"}) {
+    SolverSettings s = is_fixed_step(method) ? fixed(1e-3) : adaptive(1e-10);
+    s.max_steps = 7;
+    const Trajectory tr = run_pendulum(method, CoordinateModel::Quaternion, s);
+    EXPECT_EQ(tr.stats.status, IntegrationStatus::SolverFailed) << method;
+    EXPECT_NE(tr.stats.failure_detail.find(method + ": step budget of 7 steps exhausted"), std::string::npos)
+        << tr.stats.failure_detail;
+    EXPECT_EQ(tr.stats.steps, 7u) << method;
+    EXPECT_GT(tr.stats.failed_time, 0.0) << method;
+  }
+}
+
+TEST(StepFailure, AStepSizeUnderflowIsAStatus) {
+  // A tolerance below round-off cannot be met: the step size collapses (16 eps of the horizon is
+  // the floor; GSL alone would go on while t changes by an ulp, ~1e-300 near t = 0).
+  for (const std::string method : {"gsl-rk8pd", "gsl-msbdf", "odeint-rkf78", "odeint-dopri5", "odeint-bs"}) {
+    const Trajectory tr = run_pendulum(method, CoordinateModel::Quaternion, adaptive(1e-300));
+    std::cout << "[ status   ] " << tr.stats.brief() << "\n";
+    EXPECT_EQ(tr.stats.status, IntegrationStatus::SolverFailed) << method;
+    EXPECT_NE(tr.stats.failure_detail.find(method + ": "), std::string::npos) << tr.stats.failure_detail;
+    EXPECT_LT(tr.stats.steps, 100000u) << method;
+  }
+}
+
+TEST(Observer, CanStopTheRun) {
+  const FreeRigidBody body = free_body();
+  using Mech = baselines::AttitudeMechanics<FreeRigidBody>;
+  const baselines::CoordinateOde<baselines::QuaternionChart, Mech> ode{Mech(body)};
+  const auto y0 = ode.initial_state({free_body_R0()}, {free_body_Omega0()});
+  const std::vector<double> times = uniform_times(1.0, 10);
+  for (const std::string& method : baselines::solver_names()) {
+    std::size_t calls = 0;
+    const Stats stats = baselines::integrate(method, ode, std::span<const double>(y0.data(), y0.size()), times,
+                                             is_fixed_step(method) ? fixed(0.01) : adaptive(1e-8),
+                                             [&](std::size_t i, double, const double*) {
+                                               ++calls;
+                                               return i < 3;
+                                             });
+    EXPECT_EQ(stats.status, IntegrationStatus::ObserverStopped) << method;
+    EXPECT_EQ(calls, 4u) << method;
+  }
+}
+
+// --- bad settings -----------------------------------------------------------------------------
+
+void expect_invalid(const std::string& method, CoordinateModel model, const SolverSettings& s, const std::string& field,
+                    const std::string& words) {
+  try {
+    run_pendulum(method, model, s);
+    ADD_FAILURE() << method << ": no InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+TEST(Settings, BadCombinationsAreRejectedNamingTheOption) {
+  expect_invalid("odeint-rk4", CoordinateModel::Quaternion, SolverSettings{}, "h", "fixed-step method: it needs a step h");
+  expect_invalid("gsl-rk4imp", CoordinateModel::Matrix, adaptive(1e-8), "h", "fixed-step");
+  SolverSettings both = fixed(0.01);
+  both.rtol = 1e-8;
+  expect_invalid("odeint-rk4", CoordinateModel::Quaternion, both, "rtol", "takes a step h, not tolerances");
+  expect_invalid("cvode-bdf", CoordinateModel::Quaternion, fixed(0.01), "h", "adaptive method");
+  expect_invalid("gsl-rk8pd", CoordinateModel::Quaternion, adaptive(-1.0), "rtol", "> 0");
+  expect_invalid("odeint-rk4", CoordinateModel::Quaternion, fixed(0.0), "h", "> 0");
+  expect_invalid("odeint-rk4", CoordinateModel::Quaternion, fixed(0.03), "h", "not on the grid");
+  for (const std::string method : {"cvode-adams", "gsl-msbdf"}) {
+    expect_invalid(method, CoordinateModel::QuaternionRenormalized, adaptive(1e-8), "model", "no post-step hook");
+  }
+  SolverSettings dq = adaptive(1e-8);
+  dq.jacobian = baselines::JacobianSource::DifferenceQuotient;
+  expect_invalid("gsl-msbdf", CoordinateModel::Quaternion, dq, "jacobian", "only CVODE");
+  expect_invalid("rk45", CoordinateModel::Quaternion, adaptive(1e-8), "method", "unknown method 'rk45' (known: cvode-adams");
+  EXPECT_THROW(baselines::parse_coordinate_model("euler-123"), InvalidInput);
+}
+
+TEST(Settings, DefaultsAreDocumented) {
+  using Mech = baselines::AttitudeMechanics<Pendulum3D>;
+  const baselines::CoordinateOde<baselines::QuaternionChart, Mech> ode{Mech(pendulum())};
+  const SolverSettings s = baselines::resolve_settings(baselines::solver_info("cvode-bdf"), SolverSettings{}, ode);
+  EXPECT_EQ(*s.rtol, baselines::kDefaultRtol);
+  EXPECT_EQ(*s.atol, baselines::kDefaultRtol);
+}
+
+}  // namespace
+}  // namespace lgvi::test

@@ -1,0 +1,67 @@
+// `lgvi-testbed ocp`: the three output files, their content, and bad input.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "experiments/cli_support.hpp"
+
+namespace lgvi::test {
+namespace {
+
+TEST(OcpCli, PendulumWritesHistoryTrajectoryAndSummary) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"ocp", "pendulum", "--out", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("converged"), std::string::npos) << r.out;
+  const fs::path out = dir.work() / "out";
+  const std::string json = read_text(out / "ocp-pendulum-summary.json");
+  for (const char* key : {"\"cost\": 7.32", "\"status\": \"converged\"", "\"outer_iterations\"", "\"inner_iterations\"",
+                          "\"cond_min\"", "\"cond_max\"", "\"wall_seconds\"", "\"violation\"", "\"form\": \"printed\""}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key << " not in " << json;
+  }
+  const std::string history = read_text(out / "ocp-pendulum-history.csv");
+  EXPECT_NE(history.find("iteration,violation,cost,step_length,backtracks,cond_sensitivity"), std::string::npos);
+  const std::vector<std::string> trajectory = lines_of(read_text(out / "ocp-pendulum-trajectory.csv"));
+  std::size_t data = 0, header = 0;
+  for (const std::string& line : trajectory) {
+    if (line.rfind("t,R11", 0) == 0) ++header;
+    else if (!line.empty() && line[0] != '#') ++data;
+  }
+  EXPECT_EQ(header, 1u);
+  EXPECT_EQ(data, 1001u);  // nodes 0..1000
+  // Nothing but the three files (no temporaries left).
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(out)) {
+    EXPECT_NE(e.path().filename().string()[0], '.') << e.path();
+    ++files;
+  }
+  EXPECT_EQ(files, 3u);
+}
+
+TEST(OcpCli, NoDecompositionRecordsTheFailure) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"ocp", "pendulum", "--no-decomposition", "--out", "."});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  const std::string json = read_text(dir.work() / "ocp-pendulum-summary.json");
+  EXPECT_NE(json.find("\"decomposition\": false"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"converged\": false"), std::string::npos) << json;
+}
+
+TEST(OcpCli, BadInputIsOneErrorLineAndNoFiles) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"ocp", "pendulum", "--h", "0.0003", "--out", "."},
+        std::vector<std::string>{"ocp", "pendulum", "--guess", "1,2", "--out", "."},
+        std::vector<std::string>{"ocp", "pendulum", "--form", "leapfrog", "--out", "."},
+        std::vector<std::string>{"ocp", "rocket", "--out", "."}}) {
+    TempDir dir;
+    const CliResult r = run_testbed(dir, args);
+    EXPECT_EQ(r.exit_code, 1) << args[2] << ": " << r.err;
+    EXPECT_EQ(r.err_lines().size(), 1u) << r.err;
+    EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+    EXPECT_TRUE(dir.work_entries().empty());
+  }
+}
+
+}  // namespace
+}  // namespace lgvi::test
