@@ -13,16 +13,6 @@
 namespace lgvi::test {
 namespace {
 
-void expect_bad_input(const TempDir& dir, const CliResult& r, const std::vector<std::string>& needles) {
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  const std::vector<std::string> lines = r.err_lines();
-  ASSERT_EQ(lines.size(), 1u) << r.err;
-  EXPECT_EQ(lines[0].rfind("error: ", 0), 0u) << lines[0];
-  for (const std::string& n : needles) EXPECT_NE(lines[0].find(n), std::string::npos) << "'" << n << "' not in: " << lines[0];
-  EXPECT_TRUE(r.out.empty()) << r.out;
-  EXPECT_TRUE(dir.work_entries().empty());
-}
-
 TEST(CliBaselines, BadCombinationsAreOneLineErrors) {
   const std::vector<std::pair<std::vector<std::string>, std::vector<std::string>>> cases = {
       {{"--method", "rk45", "--model", "quaternion"}, {"method", "unknown method 'rk45'", "cvode-bdf", "lgvi"}},

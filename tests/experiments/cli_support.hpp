@@ -174,4 +174,16 @@ inline CsvParts read_csv(const fs::path& file) {
   return csv;
 }
 
+/// Asserts the CLI failed with bad input: exit 1, one "error:" line containing every `needle`,
+/// nothing on stdout, nothing (not even a temporary) in the output directory.
+inline void expect_bad_input(const TempDir& dir, const CliResult& r, const std::vector<std::string>& needles) {
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  const std::vector<std::string> lines = r.err_lines();
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_EQ(lines[0].rfind("error: ", 0), 0u) << lines[0];
+  for (const std::string& n : needles) EXPECT_NE(lines[0].find(n), std::string::npos) << "'" << n << "' not in: " << lines[0];
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_TRUE(dir.work_entries().empty()) << "left in the output dir: " << dir.work_entries().front();
+}
+
 }  // namespace lgvi::test
