@@ -32,6 +32,22 @@
 
 namespace lgvi::ocp {
 
+/// Dimensions and fixed-size types of a model: n_q configuration (and momentum) coordinates,
+/// n_u controls; a state variation is 2 n_q long.
+template <int NQ, int NU>
+struct ModelDimensions {
+  static constexpr int nq = NQ;
+  static constexpr int nu = NU;
+  using VecQ = Eigen::Matrix<double, nq, 1>;
+  using VecU = Eigen::Matrix<double, nu, 1>;
+  using VecS = Eigen::Matrix<double, 2 * nq, 1>;
+  using MatQ = Eigen::Matrix<double, nq, nq>;
+  using MatQU = Eigen::Matrix<double, nq, nu>;
+  using MatUQ = Eigen::Matrix<double, nu, nq>;
+  using MatU = Eigen::Matrix<double, nu, nu>;
+  using MatS = Eigen::Matrix<double, 2 * nq, 2 * nq>;
+};
+
 /// The 3D pendulum with the symmetric control moment R^T e3 x u (eq. 23): n_q = n_u = 3.
 ///
 /// With a = R^T e3 (gravity in the body frame; d a = hat(a) eta under R -> R exp(eta)):
@@ -41,23 +57,13 @@ namespace lgvi::ocp {
 ///   H   = -hat(w x nu) hat(a),   C = hat(nu) hat(a).
 /// The vertical momentum C_v = e3^T R Pi = a . Pi is conserved by every kick and drift for any
 /// u, with gradient dC_v = [Pi x a; a] (the symmetry of section 3.2).
-struct PendulumModel {
-  static constexpr int nq = 3;
-  static constexpr int nu = 3;
+struct PendulumModel : ModelDimensions<3, 3> {
   static constexpr bool has_translation = false;
   static constexpr bool has_symmetry = true;
   using System = Pendulum3D;
   using Lgvi = AttitudeLgvi<Pendulum3D>;
   using State = AttitudeState;
   using Control = Vec3;
-  using VecQ = Eigen::Matrix<double, nq, 1>;
-  using VecU = Eigen::Matrix<double, nu, 1>;
-  using VecS = Eigen::Matrix<double, 2 * nq, 1>;
-  using MatQ = Eigen::Matrix<double, nq, nq>;
-  using MatQU = Eigen::Matrix<double, nq, nu>;
-  using MatUQ = Eigen::Matrix<double, nu, nq>;
-  using MatU = Eigen::Matrix<double, nu, nu>;
-  using MatS = Eigen::Matrix<double, 2 * nq, 2 * nq>;
 
   explicit PendulumModel(const Pendulum3D& s) : system(s) {}
   const Pendulum3D& system;
@@ -112,23 +118,13 @@ struct PendulumModel {
 ///   B   = I (the controls act on the momenta directly), C = 0.
 /// H (the derivative of G^T nu) needs the third derivative of V, N_q(y) = dK_q[y]/dp:
 ///   N(p, y) = -k (-3 (y p^T + p y^T + (p.y) I) / r^5 + 15 (p.y) p p^T / r^7).
-struct DumbbellModel {
-  static constexpr int nq = 6;
-  static constexpr int nu = 6;
+struct DumbbellModel : ModelDimensions<6, 6> {
   static constexpr bool has_translation = true;
   static constexpr bool has_symmetry = false;
   using System = DumbbellSpacecraft;
   using Lgvi = DumbbellLgvi;
   using State = RigidBodyState;
   using Control = DumbbellSpacecraft::Control;
-  using VecQ = Eigen::Matrix<double, nq, 1>;
-  using VecU = Eigen::Matrix<double, nu, 1>;
-  using VecS = Eigen::Matrix<double, 2 * nq, 1>;
-  using MatQ = Eigen::Matrix<double, nq, nq>;
-  using MatQU = Eigen::Matrix<double, nq, nu>;
-  using MatUQ = Eigen::Matrix<double, nu, nq>;
-  using MatU = Eigen::Matrix<double, nu, nu>;
-  using MatS = Eigen::Matrix<double, 2 * nq, 2 * nq>;
 
   explicit DumbbellModel(const DumbbellSpacecraft& s) : system(s) {}
   const DumbbellSpacecraft& system;
