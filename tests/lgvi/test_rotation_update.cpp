@@ -29,6 +29,19 @@ const double kMatTol = roundoff(1.0, 8);
 
 Inertia paper_inertia() { return Inertia::from(Vec3(0.13, 0.28, 0.17).asDiagonal()); }
 
+/// A random inertia: principal moments in [0.1, 1] satisfying the triangle inequality (J3 drawn
+/// between max(|J1 - J2|, 0.1) and J1 + J2), random principal axes, symmetrized to round-off.
+template <class Rng>
+Mat3 random_valid_inertia(Rng& rng) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double J1 = 0.1 + 0.9 * uniform(rng), J2 = 0.1 + 0.9 * uniform(rng);
+  const double lo = std::max(std::abs(J1 - J2), 0.1), hi = J1 + J2;
+  const double J3 = lo + (hi - lo) * uniform(rng);
+  const Mat3 Q = so3::random_rotation(rng);
+  const Mat3 J = Q * Vec3(J1, J2, J3).asDiagonal() * Q.transpose();
+  return 0.5 * (J + J.transpose());
+}
+
 struct Sample {
   Inertia inertia;
   Vec3 hp;
@@ -40,12 +53,7 @@ std::vector<Sample> random_batch(double max_h_omega, int n, std::uint64_t salt) 
   std::normal_distribution<double> normal;
   std::vector<Sample> batch;
   for (int k = 0; k < n; ++k) {
-    const double J1 = 0.1 + 0.9 * uniform(rng), J2 = 0.1 + 0.9 * uniform(rng);
-    const double lo = std::max(std::abs(J1 - J2), 0.1), hi = J1 + J2;
-    const double J3 = lo + (hi - lo) * uniform(rng);
-    const Mat3 Q = so3::random_rotation(rng);
-    Mat3 J = Q * Vec3(J1, J2, J3).asDiagonal() * Q.transpose();
-    J = 0.5 * (J + J.transpose());
+    const Mat3 J = random_valid_inertia(rng);
     const Vec3 n_dir = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
     const double mag =
         k % 2 == 0 ? max_h_omega : max_h_omega * std::pow(1e-8 / max_h_omega, uniform(rng));
@@ -219,12 +227,7 @@ TEST(RotationUpdate, NewtonSettlesWithinTheEvaluationFloor) {
   o.max_iterations = 12;
   double worst[2] = {0.0, 0.0};
   for (int k = 0; k < 10000; ++k) {
-    const double J1 = 0.1 + 0.9 * uniform(rng), J2 = 0.1 + 0.9 * uniform(rng);
-    const double lo = std::max(std::abs(J1 - J2), 0.1), hi = J1 + J2;
-    const double J3 = lo + (hi - lo) * uniform(rng);
-    const Mat3 Q = so3::random_rotation(rng);
-    Mat3 J = Q * Vec3(J1, J2, J3).asDiagonal() * Q.transpose();
-    J = 0.5 * (J + J.transpose());
+    const Mat3 J = random_valid_inertia(rng);
     const Vec3 n = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
     const double mag = 0.5 * std::pow(2e-6, uniform(rng));
     const Inertia I = Inertia::from(J);
