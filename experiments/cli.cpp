@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <iomanip>
+#include <thread>
 
 #include "experiments/atomic_file.hpp"
 #include "experiments/method.hpp"
@@ -83,7 +84,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     app.footer(
         "Exit status: 0 success; 1 bad input (scene file or option; one 'error:' line on stderr);\n"
         "2 a run stopped early (rotation update failed, a baseline solver failed or hit gimbal lock;\n"
-        "  the CSV of the completed steps is written);\n"
+        "  the CSV of the completed steps is written), or a suite case did not end as expected;\n"
         "3 results could not be written (file system, gnuplot).");
     std::string scenes_dir = default_scenes_dir().string();
     app.add_option("--scenes-dir", scenes_dir, "Directory of the named scenes (NAME.toml)")->capture_default_str();
@@ -119,17 +120,34 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     CLI::Option* rtol_opt = sim->add_option("--rtol", rtol, "Adaptive baseline's relative tolerance (default 1e-6)");
     CLI::Option* atol_opt = sim->add_option("--atol", atol, "Adaptive baseline's absolute tolerance (default: rtol)");
 
-    CLI::App* suite_cmd = app.add_subcommand("suite", "Run a suite: CSV per case, summary.json, PNG plots");
+    CLI::App* suite_cmd = app.add_subcommand(
+        "suite", "Run a suite of independent cases in parallel: CSV per case, summary.csv/.jsonl, figures");
     std::string suite_name;
     std::string suite_out;
     std::string plots_dir = default_plots_dir().string();
     std::string gnuplot = default_gnuplot();
     bool no_plots = false;
+    bool quick = false;
+    bool list_cases = false;
+    bool render_only = false;
+    std::string shard_text = "0/1";
+    unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
     std::string suite_help = "Suite name:";
-    for (const auto& [n, d] : suite_list()) suite_help += " '" + n + "' (" + d + ")";
+    for (const auto& [n, d] : suite_list()) suite_help += "\n  " + n + ": " + d;
     suite_cmd->add_option("SUITE", suite_name, suite_help)->required();
+    suite_cmd->add_flag("--quick", quick, "The small version (minutes; CI and the README's results)");
     suite_cmd->add_option("--out", suite_out, "Output directory (default: results/SUITE)");
-    suite_cmd->add_flag("--no-plots", no_plots, "Skip the gnuplot figures");
+    suite_cmd->add_flag("--list", list_cases, "Print the case ids (of the shard) and exit");
+    suite_cmd->add_option("--shard", shard_text,
+                          "Run the i-th of N contiguous blocks of cases (0 <= i < N); no figures; "
+                          "summaries of shards 0..N-1 concatenate")
+        ->capture_default_str();
+    suite_cmd->add_option("--jobs", jobs, "Cases run in parallel (default: hardware threads)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    suite_cmd->add_flag("--render-only", render_only,
+                        "Only draw the figures and tables from OUT/summary.csv and the case CSVs (merged shards)");
+    suite_cmd->add_flag("--no-plots", no_plots, "Skip the gnuplot figures and tables");
     suite_cmd->add_option("--plots-dir", plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
     suite_cmd->add_option("--gnuplot", gnuplot, "gnuplot executable")->capture_default_str();
     OcpCommand ocp_options;
@@ -156,11 +174,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       if (model_opt->count() > 0) method_options.model = model_name;
       if (rtol_opt->count() > 0) method_options.rtol = rtol;
       if (atol_opt->count() > 0) method_options.atol = atol;
-      if (form_opt->count() > 0 && method_name != "lgvi") throw InvalidInput("--form", "applies to the LGVI only");
+      if (form_opt->count() > 0 && method_name != "lgvi") throw InvalidInput("--form", "applies to the order-2 LGVI (--method lgvi) only");
       const std::unique_ptr<Method> method = make_method(method_name, method_options);
       const Scene scene = load_scene(resolve_scene(scene_arg, scenes_dir), overrides);
       const fs::path csv = csv_out.empty() ? fs::path(scene.name + ".csv") : fs::path(csv_out);
-      const RunSummary summary = simulate(scene, *method, {csv, command_line});
+      const RunSummary summary = simulate(scene, *method, {csv, command_line, {}});
       if (!summary.stats.ok()) {
         return report(err, scene.name + ": " + summary.stats.brief() + " (CSV of the completed steps: " +
                                csv.string() + ")",
@@ -171,7 +189,12 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     }
 
     if (suite_cmd->parsed()) {
-      const Suite suite = make_suite(suite_name, scenes_dir);
+      const Shard shard = parse_shard(shard_text);
+      const Suite suite = make_suite(suite_name, SuiteParams{quick, scenes_dir});
+      if (list_cases) {
+        for (const std::size_t i : shard_cases(suite.cases.size(), shard)) out << suite.cases[i].id << "\n";
+        return kExitOk;
+      }
       SuiteOptions options;
       options.out_dir = suite_out.empty() ? fs::path("results") / suite_name : fs::path(suite_out);
       options.scenes_dir = scenes_dir;
@@ -179,12 +202,22 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       options.gnuplot = gnuplot;
       options.plots = !no_plots;
       options.command_line = command_line;
+      options.shard = shard;
+      options.jobs = jobs;
+      if (render_only) {
+        const std::vector<fs::path> files = render_suite(suite, options);
+        out << "wrote " << files.size() << " figures and tables in " << options.out_dir.string() << "\n";
+        return kExitOk;
+      }
       const SuiteResult result = run_suite(suite, options, out);
       if (!result.all_ok()) {
-        std::size_t failed = 0;
-        for (const RunSummary& r : result.runs) failed += r.stats.ok() ? 0 : 1;
-        return report(err, "suite " + suite_name + ": " + std::to_string(failed) + " of " +
-                               std::to_string(result.runs.size()) + " runs stopped early (see summary.json)",
+        std::string which;
+        for (const CaseOutcome& c : result.cases) {
+          if (!c.as_expected && which.size() < 200) which += (which.empty() ? "" : ", ") + c.id;
+        }
+        return report(err, "suite " + suite_name + ": " + std::to_string(result.unexpected()) + " of " +
+                               std::to_string(result.cases.size()) + " cases did not end as expected (" + which +
+                               "; see summary.csv)",
                       kExitRunFailed);
       }
       return kExitOk;

@@ -1,10 +1,15 @@
 // The LGVI as a Method: AttitudeLgvi<System> for the free body and the pendulum, DumbbellLgvi
 // for the dumbbell, CartPendulumLgvi and ConnectedBodiesLgvi for the multibody systems, in the
 // scene's form (symmetric or printed).
+// The composed LGVIs of order 4 and 6 (lgvi/composition.hpp) are the methods "lgvi-SCHEME"
+// (lgvi-yoshida4, lgvi-suzuki4, lgvi-yoshida6, lgvi-kahan-li6): the same flow map in its
+// symmetric form, composed with the scheme's substeps; they need a symmetric scene form.
+#include <optional>
 #include <type_traits>
 
 #include "baselines/solver.hpp"
 #include "experiments/method.hpp"
+#include "lgvi/composition.hpp"
 #include "lgvi/lgvi.hpp"
 #include "lgvi/multibody_lgvi.hpp"
 
@@ -12,20 +17,46 @@ namespace lgvi::experiments {
 
 namespace {
 
+constexpr const char* kComposedPrefix = "lgvi-";
+constexpr const char* kSchemes[] = {"yoshida4", "suzuki4", "yoshida6", "kahan-li6"};
+
 class LgviMethod final : public Method {
  public:
-  std::string name() const override { return "lgvi"; }
+  LgviMethod() = default;
+  explicit LgviMethod(CompositionScheme scheme) : scheme_(scheme) {}
+
+  std::string name() const override { return scheme_ ? kComposedPrefix + std::string(scheme_->name) : "lgvi"; }
 
   Fields settings(const Scene& scene) const override {
-    return {{"form", std::string(to_string(scene.form))},
-            {"rotation_update_tolerance", options_.relative_tolerance}};
+    Fields f = {{"form", std::string(to_string(scene.form))},
+                {"rotation_update_tolerance", options_.relative_tolerance}};
+    if (scheme_) {
+      f.push_back({"composition", std::string(scheme_->name)});
+      f.push_back({"order", std::int64_t{scheme_->order}});
+      f.push_back({"stages", static_cast<std::int64_t>(scheme_->gammas.size())});
+    }
+    return f;
   }
 
   Stats run(const Scene& scene, Recorder& recorder) const override {
+    if (scheme_ && scene.form != LgviForm::Symmetric) {
+      throw InvalidInput("form", name() + " composes the symmetric LGVI: scene '" + scene.name +
+                                     "' asks for the " + to_string(scene.form) + " form");
+    }
     return std::visit([&](const auto& model) { return run_model(scene, model, recorder); }, scene.model);
   }
 
  private:
+  /// integrate() with the flow map itself, or with its composition when a scheme is set.
+  template <class Base, class State, class ControlFn, class Observer>
+  Stats drive(const Base& base, State& state, const Horizon& hz, ControlFn&& control, Observer&& observer) const {
+    if (scheme_) {
+      const ComposedLgvi<Base> composed(base, *scheme_);
+      return integrate(composed, state, 0.0, hz.h, hz.steps, control, observer);
+    }
+    return integrate(base, state, 0.0, hz.h, hz.steps, control, observer);
+  }
+
   template <class Model>
   Stats run_model(const Scene& scene, const Model& m, Recorder& recorder) const {
     const Horizon& hz = scene.horizon;
@@ -49,7 +80,7 @@ class LgviMethod final : public Method {
         recorder.record(k, sample);
         return true;
       };
-      return integrate(lgvi, state, 0.0, hz.h, hz.steps, control, observer);
+      return drive(lgvi, state, hz, control, observer);
     } else if constexpr (std::is_same_v<Model, CartPendulumModel>) {
       const CartPendulumLgvi lgvi(m.system, scene.form);
       CartPendulumState state = lgvi.make_state(m.initial.R, m.initial.q, m.initial.Omega, m.initial.q_dot);
@@ -70,7 +101,7 @@ class LgviMethod final : public Method {
         recorder.record(k, sample);
         return true;
       };
-      return integrate(lgvi, state, 0.0, hz.h, hz.steps, control, observer);
+      return drive(lgvi, state, hz, control, observer);
     } else if constexpr (std::is_same_v<Model, ConnectedBodiesModel>) {
       const ConnectedBodiesLgvi lgvi(m.system, scene.form);
       ConnectedBodiesState state = lgvi.make_state(m.initial.R1, m.initial.R2, m.initial.Omega1, m.initial.Omega2);
@@ -86,7 +117,7 @@ class LgviMethod final : public Method {
         recorder.record(k, sample);
         return true;
       };
-      return integrate(lgvi, state, 0.0, hz.h, hz.steps, control, observer);
+      return drive(lgvi, state, hz, control, observer);
     } else {
       using System = std::decay_t<decltype(m.system)>;
       const AttitudeLgvi<System> lgvi(m.system, scene.form, options_);
@@ -101,17 +132,19 @@ class LgviMethod final : public Method {
         recorder.record(k, sample);
         return true;
       };
-      return integrate(lgvi, state, 0.0, hz.h, hz.steps, control, observer);
+      return drive(lgvi, state, hz, control, observer);
     }
   }
 
   RotationUpdateOptions options_;
+  std::optional<CompositionScheme> scheme_;
 };
 
 }  // namespace
 
 std::vector<std::string> method_names() {
   std::vector<std::string> names = {"lgvi"};
+  for (const char* scheme : kSchemes) names.push_back(kComposedPrefix + std::string(scheme));
   for (const std::string& n : baselines::solver_names()) names.push_back(n);
   return names;
 }
@@ -119,12 +152,18 @@ std::vector<std::string> method_names() {
 std::unique_ptr<Method> make_method(const std::string& name) { return make_method(name, MethodOptions{}); }
 
 std::unique_ptr<Method> make_method(const std::string& name, const MethodOptions& options) {
-  if (name == "lgvi") {
+  const bool composed = name.starts_with(kComposedPrefix);
+  if (name == "lgvi" || composed) {
     if (options.model) throw InvalidInput("model", "the LGVI works on SO(3) itself: it takes no coordinate model");
     if (options.rtol || options.atol) {
       throw InvalidInput(options.rtol ? "rtol" : "atol", "the LGVI is a fixed-step method (h from the scene)");
     }
-    return std::make_unique<LgviMethod>();
+    if (!composed) return std::make_unique<LgviMethod>();
+    for (const char* scheme : kSchemes) {
+      if (name.substr(std::string(kComposedPrefix).size()) == scheme) {
+        return std::make_unique<LgviMethod>(composition_scheme(scheme));
+      }
+    }
   }
   for (const std::string& n : baselines::solver_names()) {
     if (n == name) return make_baseline_method(name, options);

@@ -40,15 +40,22 @@ std::string first_line(const fs::path& file) {
 void render_plot(const std::string& gnuplot, const fs::path& script, const fs::path& png,
                  const std::string& title, const std::string& xlabel, const std::string& ylabel,
                  const std::vector<Curve>& curves) {
-  std::error_code ec;
-  if (!fs::is_regular_file(script, ec)) throw OutputError(script.string() + ": gnuplot script not found");
-  TempPath out(png);
-  TempPath log(png.string() + ".log");
-  std::vector<std::string> args = {gnuplot, "-c", script.string(), out.path().string(), title, xlabel, ylabel};
+  std::vector<std::string> args = {title, xlabel, ylabel};
   for (const Curve& c : curves) {
     args.push_back(c.csv.string());
     args.push_back(c.label);
   }
+  run_gnuplot_script(gnuplot, script, png, args);
+}
+
+void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, const fs::path& png,
+                        const std::vector<std::string>& script_args) {
+  std::error_code ec;
+  if (!fs::is_regular_file(script, ec)) throw OutputError(script.string() + ": gnuplot script not found");
+  TempPath out(png);
+  TempPath log(png.string() + ".log");
+  std::vector<std::string> args = {gnuplot, "-c", script.string(), out.path().string()};
+  args.insert(args.end(), script_args.begin(), script_args.end());
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

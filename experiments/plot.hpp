@@ -27,4 +27,10 @@ void render_plot(const std::string& gnuplot, const std::filesystem::path& script
                  const std::filesystem::path& png, const std::string& title, const std::string& xlabel,
                  const std::string& ylabel, const std::vector<Curve>& curves);
 
+/// Runs `gnuplot -c script OUT args...` the same way (OUT a temporary renamed onto `png`).
+/// gnuplot -c passes at most 9 arguments: scripts with many curves take a curve-list file.
+/// Throws OutputError.
+void run_gnuplot_script(const std::string& gnuplot, const std::filesystem::path& script,
+                        const std::filesystem::path& png, const std::vector<std::string>& args);
+
 }  // namespace lgvi::experiments

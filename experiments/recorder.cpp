@@ -164,6 +164,7 @@ void Recorder::record(std::size_t k, const Sample& s) {
     diagnostics_.momentum0_norm = c.momentum.norm();
   }
   ++samples_;
+  last_ = s;
   const double energy_error = c.energy - diagnostics_.energy0;
   // Two bodies: the worse of the two attitudes.
   const bool two_bodies = std::holds_alternative<ConnectedBodiesModel>(model_);

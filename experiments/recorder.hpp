@@ -76,6 +76,8 @@ class Recorder {
 
   const Diagnostics& diagnostics() const { return diagnostics_; }
   std::size_t samples() const { return samples_; }
+  /// The last recorded sample (the final state of the run, or its last good step).
+  const Sample& last() const { return last_; }
   /// Time spent in record() (diagnostics and CSV formatting), to separate it from the
   /// integrator's own cost.
   double seconds() const { return seconds_; }
@@ -91,6 +93,7 @@ class Recorder {
   std::array<double, kMaxColumns> row_{};
   bool row_pending_ = false;
   std::size_t samples_ = 0;
+  Sample last_;
   bool quaternion_column_ = false;
   double seconds_ = 0.0;
 };

@@ -82,6 +82,7 @@ RunSummary simulate(const Scene& scene, const Method& method, const SimulateOpti
   s.recording_seconds = recorder.seconds();
   s.csv = options.csv;
   s.csv_rows = csv.rows();
+  s.final_sample = recorder.last();
 
   Fields metadata = {{"scene", scene.name},
                      {"scene_file", source_relative(scene.file)},
@@ -97,6 +98,7 @@ RunSummary simulate(const Scene& scene, const Method& method, const SimulateOpti
                        {"command_line", options.command_line},
                        {"status", stats.brief()}};
   metadata.insert(metadata.end(), rest.begin(), rest.end());
+  metadata.insert(metadata.end(), options.extra_metadata.begin(), options.extra_metadata.end());
   csv.commit(metadata);
   return s;
 }

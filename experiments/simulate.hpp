@@ -25,6 +25,7 @@ struct RunSummary {
   double recording_seconds = 0.0;  ///< part of stats.wall_seconds spent recording
   std::filesystem::path csv;
   std::size_t csv_rows = 0;
+  Sample final_sample;  ///< the last recorded state (t_final, or the last good step)
 
   /// Ordered fields of the JSON summary object (see README/report for their meaning).
   Fields to_fields() const;
@@ -33,6 +34,7 @@ struct RunSummary {
 struct SimulateOptions {
   std::filesystem::path csv;  ///< output file
   std::string command_line;   ///< recorded in the metadata
+  Fields extra_metadata;      ///< appended to the metadata (e.g. a suite case's reference run)
 };
 
 /// Integrates `scene` with `method`, writing the CSV atomically (metadata, header, rows of

@@ -1,69 +1,66 @@
 #include "experiments/suite.hpp"
 
-#include <map>
+#include <gsl/gsl_errno.h>
 
-#include "experiments/json_writer.hpp"
-#include "experiments/plot.hpp"
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "experiments/atomic_file.hpp"
 #include "experiments/scene.hpp"
 
 namespace lgvi::experiments {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-/// Axis labels in the units of the scene's system (gnuplot enhanced text).
-struct Labels {
-  std::string time;
-  std::string energy;
-  std::string momentum;
-};
-
-Labels labels_for(const Model& model) {
-  if (std::holds_alternative<DumbbellModel>(model)) {
-    return {"time [normalized: orbit period 2π]", "|E - E_0| [normalized]",
-            "|H - H_0| [normalized],  H = x × m v + R J Ω"};
+const char* to_string(Expectation e) {
+  switch (e) {
+    case Expectation::Complete: return "complete";
+    case Expectation::Fail: return "fail";
+    case Expectation::Either: return "either";
   }
-  if (std::holds_alternative<CartPendulumModel>(model)) {
-    return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]"};
-  }
-  if (std::holds_alternative<ConnectedBodiesModel>(model)) {
-    return {"time [s]", "|E - E_0| [J]", "|R_1 Π_1 + R_2 Π_2 - (...)_0| [kg m^2/s]"};
-  }
-  if (std::holds_alternative<PendulumModel>(model)) {
-    return {"time [s]", "|E - E_0| [J]", "|e_3^T R J Ω - (e_3^T R J Ω)_0| [kg m^2/s]"};
-  }
-  return {"time [s]", "|E - E_0| [J]", "|R J Ω - (R J Ω)_0| [kg m^2/s]"};
+  return "?";
 }
 
-std::string format_h(double h) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", h);
-  return buf;
+const std::string& SummaryRow::text(const std::string& column) const {
+  static const std::string empty;
+  const auto it = cells_.find(column);
+  return it == cells_.end() ? empty : it->second;
 }
 
-}  // namespace
-
-std::string SuiteCase::id() const { return scene + "-" + to_string(form); }
-
-bool SuiteResult::all_ok() const {
-  for (const RunSummary& r : runs) {
-    if (!r.stats.ok()) return false;
-  }
-  return true;
+std::optional<double> SummaryRow::number(const std::string& column) const {
+  const std::string& s = text(column);
+  if (s.empty()) return std::nullopt;
+  double x = 0.0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), x);
+  if (ec != std::errc() || end != s.data() + s.size() || !std::isfinite(x)) return std::nullopt;
+  return x;
 }
 
 std::vector<std::pair<std::string, std::string>> suite_list() {
-  return {{"default", "every scene of the scenes directory with the symmetric and the printed LGVI"}};
+  std::vector<std::pair<std::string, std::string>> list;
+  for (const SuiteEntry& e : suite_registry()) list.emplace_back(e.name, e.description);
+  return list;
 }
 
-Suite make_suite(const std::string& name, const fs::path& scenes_dir) {
-  if (name == "default") {
-    Suite s{name, suite_list()[0].second, {}};
-    for (const std::string& scene : scene_names(scenes_dir)) {
-      for (const LgviForm form : {LgviForm::Symmetric, LgviForm::Printed}) s.cases.push_back({scene, "lgvi", form});
+Suite make_suite(const std::string& name, const SuiteParams& params) {
+  for (const SuiteEntry& e : suite_registry()) {
+    if (e.name != name) continue;
+    Suite s = e.make(params);
+    if (s.cases.empty()) throw InvalidInput("suite", name + ": no cases (no scenes in " + params.scenes_dir.string() + "?)");
+    std::set<std::string> ids;
+    for (const SuiteCase& c : s.cases) {
+      if (!ids.insert(c.id).second) throw InvalidInput("suite", name + ": duplicate case id '" + c.id + "'");
     }
-    if (s.cases.empty()) throw InvalidInput("suite", "no scenes in " + scenes_dir.string());
     return s;
   }
   std::string known;
@@ -71,71 +68,280 @@ Suite make_suite(const std::string& name, const fs::path& scenes_dir) {
   throw InvalidInput("suite", "unknown suite '" + name + "' (known: " + known + ")");
 }
 
-SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostream& progress) {
-  // Every scene is loaded and validated before anything runs or is written.
-  std::vector<Scene> scenes;
-  for (const SuiteCase& c : suite.cases) {
-    SceneOverrides o;
-    o.form = c.form;
-    scenes.push_back(load_scene(resolve_scene(c.scene, options.scenes_dir), o));
+Suite make_suite(const std::string& name, const fs::path& scenes_dir) {
+  return make_suite(name, SuiteParams{false, scenes_dir});
+}
+
+Shard parse_shard(const std::string& text) {
+  const auto bad = [&](const std::string& why) {
+    return InvalidInput("--shard", "'" + text + "': " + why + " (expected i/N with 0 <= i < N, e.g. 0/4)");
+  };
+  const std::size_t slash = text.find('/');
+  if (slash == std::string::npos) throw bad("no '/'");
+  const auto parse = [&](std::string_view part, const char* what) {
+    std::size_t v = 0;
+    const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
+    if (part.empty() || ec != std::errc() || end != part.data() + part.size()) {
+      throw bad(std::string(what) + " is not a non-negative integer");
+    }
+    return v;
+  };
+  const std::string_view all(text);
+  Shard s;
+  s.index = parse(all.substr(0, slash), "i");
+  s.count = parse(all.substr(slash + 1), "N");
+  if (s.count == 0) throw bad("N must be at least 1");
+  if (s.index >= s.count) throw bad("i must be less than N");
+  return s;
+}
+
+std::vector<std::size_t> shard_cases(std::size_t cases, const Shard& shard) {
+  const std::size_t begin = shard.index * cases / shard.count;
+  const std::size_t end = (shard.index + 1) * cases / shard.count;
+  std::vector<std::size_t> idx;
+  for (std::size_t i = begin; i < end; ++i) idx.push_back(i);
+  return idx;
+}
+
+const std::vector<std::string>& harness_columns() {
+  static const std::vector<std::string> columns = {"index",  "case",        "group",  "expected",
+                                                   "status", "as_expected", "detail", "case_seconds"};
+  return columns;
+}
+
+std::size_t SuiteResult::unexpected() const {
+  return static_cast<std::size_t>(
+      std::count_if(cases.begin(), cases.end(), [](const CaseOutcome& c) { return !c.as_expected; }));
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool as_expected(Expectation e, const JobResult& r) {
+  if (r.status == "error") return false;  // an exception is never an expected outcome
+  switch (e) {
+    case Expectation::Complete: return r.completed;
+    case Expectation::Fail: return !r.completed;
+    case Expectation::Either: return true;
   }
-  std::vector<std::unique_ptr<Method>> methods;
-  for (const SuiteCase& c : suite.cases) methods.push_back(make_method(c.method));
+  return false;
+}
+
+std::string format_duration(double seconds) {
+  char buf[32];
+  if (seconds < 60) {
+    std::snprintf(buf, sizeof buf, "%.0f s", seconds);
+  } else {
+    std::snprintf(buf, sizeof buf, "%d min %02d s", static_cast<int>(seconds) / 60, static_cast<int>(seconds) % 60);
+  }
+  return buf;
+}
+
+/// A CSV cell: the summary is read by gnuplot and by read_summary_csv, which split on commas
+/// without quoting, so commas and line breaks inside values are replaced.
+std::string cell(const std::string& text) {
+  std::string s = text;
+  for (char& c : s) {
+    if (c == ',') c = ';';
+    if (c == '\n' || c == '\r') c = ' ';
+    if (c == '"') c = '\'';
+  }
+  return s;
+}
+
+/// The harness fields of an outcome, then the case's labels, then the job's fields (first
+/// occurrence of a key wins).
+Fields row_fields(const SuiteCase& c, const CaseOutcome& o) {
+  Fields f = {{"index", static_cast<std::int64_t>(o.index)},
+              {"case", c.id},
+              {"group", c.group},
+              {"expected", std::string(to_string(c.expect))},
+              {"status", o.result.status},
+              {"as_expected", o.as_expected},
+              {"detail", o.result.detail},
+              {"case_seconds", o.seconds}};
+  std::set<std::string> keys;
+  for (const Field& x : f) keys.insert(x.key);
+  for (const Fields* more : {&c.labels, &o.result.fields}) {
+    for (const Field& x : *more) {
+      if (keys.insert(x.key).second) f.push_back(x);
+    }
+  }
+  return f;
+}
+
+std::vector<std::string> summary_columns(const Suite& suite) {
+  std::vector<std::string> cols = harness_columns();
+  for (const std::string& c : suite.columns) {
+    if (std::find(cols.begin(), cols.end(), c) == cols.end()) cols.push_back(c);
+  }
+  return cols;
+}
+
+void write_summaries(const Suite& suite, const std::vector<std::size_t>& indices, const std::vector<CaseOutcome>& outcomes,
+                     const SuiteOptions& options) {
+  const std::vector<std::string> cols = summary_columns(suite);
+  AtomicFile csv(options.out_dir / "summary.csv");
+  AtomicFile jsonl(options.out_dir / "summary.jsonl");
+  if (options.shard.index == 0) {
+    std::string header;
+    for (const std::string& c : cols) header += (header.empty() ? "" : ",") + c;
+    csv.write(header + "\n");
+  }
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    const Fields f = row_fields(suite.cases[indices[k]], outcomes[k]);
+    std::string line;
+    for (std::size_t j = 0; j < cols.size(); ++j) {
+      const auto it = std::find_if(f.begin(), f.end(), [&](const Field& x) { return x.key == cols[j]; });
+      if (j > 0) line += ",";
+      if (it != f.end()) {
+        const auto* d = std::get_if<double>(&it->value);
+        line += (d != nullptr && !std::isfinite(*d)) ? std::string() : cell(to_text(it->value));
+      }
+    }
+    csv.write(line + "\n");
+    jsonl.write(to_json(f) + "\n");
+  }
+  csv.commit();
+  jsonl.commit();
+}
+
+}  // namespace
+
+std::vector<SummaryRow> read_summary_csv(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw OutputError(file.string() + ": cannot read the suite summary");
+  const auto split = [](const std::string& line) {
+    std::vector<std::string> cells;
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t comma = line.find(',', start);
+      cells.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    return cells;
+  };
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("index,", 0) != 0) {
+    throw OutputError(file.string() + ": no header line 'index,...' (concatenate shard 0 first)");
+  }
+  const std::vector<std::string> header = split(line);
+  std::vector<SummaryRow> rows;
+  for (std::size_t n = 2; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    const std::vector<std::string> cells = split(line);
+    if (cells.size() != header.size()) {
+      throw OutputError(file.string() + ": line " + std::to_string(n) + " has " + std::to_string(cells.size()) +
+                        " cells, the header " + std::to_string(header.size()));
+    }
+    std::map<std::string, std::string> m;
+    for (std::size_t j = 0; j < header.size(); ++j) m[header[j]] = cells[j];
+    rows.emplace_back(std::move(m));
+  }
+  return rows;
+}
+
+std::vector<fs::path> render_suite(const Suite& suite, const SuiteOptions& options) {
+  if (!suite.render) return {};
+  const std::vector<SummaryRow> rows = read_summary_csv(options.out_dir / "summary.csv");
+  std::vector<fs::path> files = suite.render({options.out_dir, options.out_dir, options.plots_dir, options.gnuplot}, rows);
+  std::erase_if(files, [](const fs::path& p) { return p.empty(); });  // figures without data
+  return files;
+}
+
+SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostream& progress) {
+  const std::vector<std::size_t> indices = shard_cases(suite.cases.size(), options.shard);
+  // Every case is checked before anything runs or is written.
+  for (const std::size_t i : indices) suite.cases[i].job->validate(options.scenes_dir);
 
   std::error_code ec;
   fs::create_directories(options.out_dir, ec);
   if (ec) throw OutputError(options.out_dir.string() + ": cannot create the output directory: " + ec.message());
+  for (const std::size_t i : indices) {
+    const fs::path parent = (options.out_dir / suite.cases[i].id).parent_path();
+    fs::create_directories(parent, ec);
+    if (ec) throw OutputError(parent.string() + ": cannot create the output directory: " + ec.message());
+  }
+
+  // GSL's error handler is a process-wide pointer that the GSL adapter switches off and back on
+  // around each run; switched off here once, before any worker starts, every run restores "off"
+  // and concurrent runs never meet GSL's aborting default handler.
+  gsl_set_error_handler_off();
+
+  const std::size_t total = indices.size();
+  std::vector<CaseOutcome> outcomes(total);
+  std::atomic<std::size_t> next{0};
+  std::mutex mutex;
+  std::condition_variable done_cv;
+  std::deque<std::size_t> finished;  // positions in `indices`, in completion order
+
+  const auto worker = [&]() {
+    for (std::size_t k = next++; k < total; k = next++) {
+      const SuiteCase& c = suite.cases[indices[k]];
+      CaseOutcome& o = outcomes[k];
+      o.index = indices[k];
+      o.id = c.id;
+      const auto start = Clock::now();
+      try {
+        o.result = c.job->run({options.out_dir, options.scenes_dir, c.id, options.command_line});
+      } catch (const std::exception& e) {
+        o.result = JobResult{false, "error", e.what(), {}};
+      } catch (...) {
+        o.result = JobResult{false, "error", "unknown exception", {}};
+      }
+      o.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      o.as_expected = as_expected(c.expect, o.result);
+      {
+        const std::lock_guard lock(mutex);
+        finished.push_back(k);
+      }
+      done_cv.notify_one();
+    }
+  };
+  const unsigned threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(options.jobs, total)));
+  const auto start = Clock::now();
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < threads; ++t) pool.emplace_back(worker);
+
+  // Progress from this thread only.
+  progress << "suite " << suite.name << ": " << total << " cases"
+           << (options.shard.whole() ? std::string()
+                                     : " (shard " + std::to_string(options.shard.index) + "/" +
+                                           std::to_string(options.shard.count) + " of " +
+                                           std::to_string(suite.cases.size()) + ")")
+           << " on " << threads << " thread" << (threads == 1 ? "" : "s") << "\n"
+           << std::flush;
+  for (std::size_t done = 0; done < total;) {
+    std::unique_lock lock(mutex);
+    done_cv.wait(lock, [&] { return !finished.empty(); });
+    const std::size_t k = finished.front();
+    finished.pop_front();
+    lock.unlock();
+    ++done;
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    const double remaining = elapsed / static_cast<double>(done) * static_cast<double>(total - done);
+    const CaseOutcome& o = outcomes[k];
+    progress << "[" << done << "/" << total << "] " << format_duration(elapsed) << " elapsed, ~"
+             << format_duration(remaining) << " left  " << o.id << ": " << (o.as_expected ? "" : "UNEXPECTED ")
+             << o.result.status << " (" << o.result.detail << ")\n"
+             << std::flush;
+  }
+  for (std::thread& t : pool) t.join();
+
+  write_summaries(suite, indices, outcomes, options);
+  progress << "wrote " << (options.out_dir / "summary.csv").string() << " and summary.jsonl\n";
 
   SuiteResult result;
-  std::vector<Fields> summaries;
-  for (std::size_t i = 0; i < suite.cases.size(); ++i) {
-    const SuiteCase& c = suite.cases[i];
-    const fs::path csv = options.out_dir / (c.id() + ".csv");
-    RunSummary r = simulate(scenes[i], *methods[i], {csv, options.command_line});
-    progress << "[" << i + 1 << "/" << suite.cases.size() << "] " << c.id() << ": " << r.stats.brief() << "\n"
-             << std::flush;
-    summaries.push_back(r.to_fields());
-    result.runs.push_back(std::move(r));
+  result.cases = std::move(outcomes);
+  if (options.plots && options.shard.whole()) {
+    result.files = render_suite(suite, options);
+    progress << "wrote " << result.files.size() << " figures and tables in " << options.out_dir.string() << "\n";
+  } else if (options.plots) {
+    progress << "sharded run: no figures; merge the shards and run 'suite " << suite.name
+             << " --render-only --out MERGED' (see README)\n";
   }
-  const fs::path summary = options.out_dir / "summary.json";
-  write_json_summary(summary, summaries);
-  progress << "wrote " << summary.string() << "\n";
-  if (!options.plots) return result;
-
-  // One figure per (scene, kind), with every case of that scene as a curve.
-  std::map<std::string, std::vector<std::size_t>> by_scene;
-  std::vector<std::string> order;
-  for (std::size_t i = 0; i < suite.cases.size(); ++i) {
-    if (by_scene.find(suite.cases[i].scene) == by_scene.end()) order.push_back(suite.cases[i].scene);
-    by_scene[suite.cases[i].scene].push_back(i);
-  }
-  for (const std::string& name : order) {
-    const std::vector<std::size_t>& cases = by_scene[name];
-    const Scene& scene = scenes[cases.front()];
-    const Labels labels = labels_for(scene.model);
-    std::vector<Curve> curves;
-    for (const std::size_t i : cases) {
-      curves.push_back({result.runs[i].csv, "LGVI (" + std::string(to_string(suite.cases[i].form)) + ")"});
-    }
-    const std::string suffix = ", h = " + format_h(scene.horizon.h);
-    const struct {
-      const char* script;
-      const char* kind;
-      std::string title;
-      std::string ylabel;
-    } figures[] = {
-        {"energy_error.gp", "energy", name + ": energy error" + suffix, labels.energy},
-        {"orthogonality.gp", "orthogonality", name + ": orthogonality error" + suffix, "||R^T R - I||_F"},
-        {"momentum.gp", "momentum", name + ": " + momentum_map(scene.model).description + " error" + suffix,
-         labels.momentum},
-    };
-    for (const auto& f : figures) {
-      const fs::path png = options.out_dir / (name + "-" + f.kind + ".png");
-      render_plot(options.gnuplot, options.plots_dir / f.script, png, f.title, labels.time, f.ylabel, curves);
-      result.plots.push_back(png);
-    }
-  }
-  progress << "wrote " << result.plots.size() << " plots in " << options.out_dir.string() << "\n";
   return result;
 }
 

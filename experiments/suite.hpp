@@ -1,59 +1,204 @@
-// Suites: named lists of independent cases (scene x method x form), each run to its own CSV,
-// summarized in one summary.json and drawn by gnuplot. Cases are independent so that later a
-// suite can be listed, sharded and run in parallel without changing the outputs.
+// Suites: named lists of independent cases that the harness runs (in parallel), records and
+// plots. A case is any runnable Job (a scene integrated by a method, or later an optimal-control
+// run): it writes its own files under the output directory and returns one summary row.
+//
+// Outputs of `run_suite` in OUT:
+//   <case id>.csv      (and whatever else the job writes), each written atomically;
+//   summary.csv        one row per case in case order, the header line only in shard 0 (and in
+//                      an unsharded run), so that `cat` of the shards' summaries in shard order
+//                      is the unsharded summary;
+//   summary.jsonl      one JSON object per case per line (every field the job reported), which
+//                      concatenates the same way;
+//   figures/tables     rendered from summary.csv read back (render_suite), so a merged sharded
+//                      run is rendered by `suite NAME --render-only --out MERGED`.
+//
+// Sharding: `--shard i/N` (0 <= i < N) takes the i-th of N contiguous blocks of the case list
+// (block sizes differ by at most one), so the shards are disjoint, their union is the suite and
+// concatenating them in order keeps the case order.
+//
+// Adding a suite (e.g. the optimal-control sensitivity and shooting suites): implement Job for
+// the new kind of case, write a SuiteFactory that builds the Suite (cases, summary columns and
+// a renderer), and add one line to suite_registry() in experiments/suites/registry.cpp.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
-#include "experiments/simulate.hpp"
-#include "lgvi/lgvi.hpp"
+#include "experiments/fields.hpp"
 
 namespace lgvi::experiments {
 
-struct SuiteCase {
-  std::string scene;  ///< scene name in the scenes directory
-  std::string method = "lgvi";
-  LgviForm form = LgviForm::Symmetric;
-
-  /// File stem of the case's outputs: "<scene>-<form>" (the method joins when there are more).
-  std::string id() const;
+/// What a case is expected to do; the exit status of `suite` says whether every case did.
+enum class Expectation {
+  Complete,  ///< must reach its end (status "completed")
+  Fail,      ///< must stop with a reported failure (e.g. Euler angles through gimbal lock)
+  Either,    ///< a probe of where a method breaks: any recorded outcome is as expected
 };
+const char* to_string(Expectation e);
+
+/// Where a job writes and what it records.
+struct JobContext {
+  std::filesystem::path out_dir;     ///< the suite's output directory (exists)
+  std::filesystem::path scenes_dir;  ///< named scenes
+  std::string case_id;               ///< file stem of the case's outputs (may contain '/')
+  std::string command_line;          ///< recorded in file metadata
+};
+
+/// What a job reports. `fields` are free key-value pairs (all go to summary.jsonl; those named in
+/// the suite's columns also to summary.csv).
+struct JobResult {
+  bool completed = false;  ///< the run reached its end
+  std::string status;      ///< "completed" or the failure's name ("rotation-update-failed", ...)
+  std::string detail;      ///< one line: what happened, where, at which cost
+  Fields fields;
+};
+
+/// One runnable case. Jobs are shared between threads: run() is const and thread-safe.
+class Job {
+ public:
+  virtual ~Job() = default;
+  /// Checks the inputs (scene files, method names) before anything runs or is written. Throws
+  /// SceneError or InvalidInput.
+  virtual void validate(const std::filesystem::path& scenes_dir) const = 0;
+  /// Runs the case, writing its files as ctx.out_dir / (ctx.case_id + extension). Failures of
+  /// the computation are statuses in the result; an exception is recorded by the harness as
+  /// status "error" with its message (the suite goes on).
+  virtual JobResult run(const JobContext& ctx) const = 0;
+};
+
+struct SuiteCase {
+  std::string id;                  ///< unique in the suite; file stem ("free-body-lgvi-h0.01")
+  std::string group;               ///< figures gather the cases of one group (e.g. the scene)
+  Fields labels;                   ///< known before the run: scene, method, model, h, rtol, ...
+  Expectation expect = Expectation::Complete;
+  std::shared_ptr<const Job> job;
+};
+
+/// A row of summary.csv read back: column -> text ("" when empty).
+class SummaryRow {
+ public:
+  explicit SummaryRow(std::map<std::string, std::string> cells) : cells_(std::move(cells)) {}
+  /// The cell's text, "" for a missing column.
+  const std::string& text(const std::string& column) const;
+  /// The cell as a number; nullopt when empty or not a finite number.
+  std::optional<double> number(const std::string& column) const;
+  /// A copy with one cell replaced.
+  SummaryRow with(const std::string& column, std::string value) const {
+    SummaryRow r = *this;
+    r.cells_[column] = std::move(value);
+    return r;
+  }
+
+ private:
+  std::map<std::string, std::string> cells_;
+};
+
+struct RenderContext {
+  std::filesystem::path out_dir;    ///< where figures and tables go
+  std::filesystem::path data_dir;   ///< what the rows' csv_path is relative to
+  std::filesystem::path plots_dir;  ///< gnuplot scripts
+  std::string gnuplot;
+};
+
+/// Draws a suite's figures and writes its tables from the summary rows (case order) and the
+/// case files; returns the files written. Throws OutputError.
+using SuiteRenderer =
+    std::function<std::vector<std::filesystem::path>(const RenderContext&, const std::vector<SummaryRow>&)>;
 
 struct Suite {
   std::string name;
   std::string description;
   std::vector<SuiteCase> cases;
+  /// summary.csv columns after the harness's own (index, case, group, expected, status,
+  /// as_expected, detail); every case of the suite has them, empty where they do not apply.
+  std::vector<std::string> columns;
+  SuiteRenderer render;  ///< may be empty (no figures)
 };
+
+struct SuiteParams {
+  bool quick = false;
+  std::filesystem::path scenes_dir;
+};
+
+using SuiteFactory = std::function<Suite(const SuiteParams&)>;
+
+struct SuiteEntry {
+  std::string name;
+  std::string description;
+  SuiteFactory make;
+};
+
+/// Every suite, in the order `suite --help` lists them (experiments/suites/registry.cpp).
+const std::vector<SuiteEntry>& suite_registry();
 
 /// Known suite names with one-line descriptions.
 std::vector<std::pair<std::string, std::string>> suite_list();
 
-/// The cases of a suite. "default": every scene of `scenes_dir` with the symmetric and the
-/// printed LGVI. Throws InvalidInput("suite", ...) for an unknown name.
+/// The cases of a suite. Throws InvalidInput("suite", ...) for an unknown name, listing the
+/// known ones, and for a suite without cases.
+Suite make_suite(const std::string& name, const SuiteParams& params);
+/// Full form with the given scenes directory.
 Suite make_suite(const std::string& name, const std::filesystem::path& scenes_dir);
+
+/// A shard "i/N": the i-th (0-based) of N contiguous blocks.
+struct Shard {
+  std::size_t index = 0;
+  std::size_t count = 1;
+  bool whole() const { return count == 1; }
+};
+/// Parses "i/N" with 0 <= i < N, N >= 1. Throws InvalidInput("--shard", ...).
+Shard parse_shard(const std::string& text);
+/// Indices of the cases of `shard` among `cases` cases: [floor(i n / N), floor((i+1) n / N)).
+std::vector<std::size_t> shard_cases(std::size_t cases, const Shard& shard);
+
+/// The harness's own summary columns, before the suite's.
+const std::vector<std::string>& harness_columns();
 
 struct SuiteOptions {
   std::filesystem::path out_dir;
   std::filesystem::path scenes_dir;
   std::filesystem::path plots_dir;
   std::string gnuplot;
-  bool plots = true;
+  bool plots = true;  ///< render figures after the run (sharded runs never do)
   std::string command_line;
+  Shard shard;
+  unsigned jobs = 1;  ///< worker threads (>= 1)
+};
+
+struct CaseOutcome {
+  std::size_t index = 0;  ///< in the whole suite
+  std::string id;
+  JobResult result;
+  bool as_expected = false;
+  double seconds = 0.0;
 };
 
 struct SuiteResult {
-  std::vector<RunSummary> runs;
-  std::vector<std::filesystem::path> plots;
-  bool all_ok() const;
+  std::vector<CaseOutcome> cases;  ///< the shard's cases, in case order
+  std::vector<std::filesystem::path> files;  ///< figures and tables
+  std::size_t unexpected() const;
+  bool all_ok() const { return unexpected() == 0; }
 };
 
-/// Validates every case's scene first (SceneError before anything runs), then runs the cases,
-/// writes OUT/<case id>.csv, OUT/summary.json and, per scene, OUT/<scene>-{energy,
-/// orthogonality,momentum}.png. One progress line per case on `progress`.
-/// Throws SceneError, OutputError.
+/// Validates every case of the shard first (SceneError / InvalidInput before anything runs or
+/// is written), then runs them on `options.jobs` threads, printing one progress line per
+/// finished case on `progress` (done/total, elapsed, estimated remaining), writes summary.csv
+/// and summary.jsonl in case order and, unless sharded or options.plots is false, renders.
+/// Throws SceneError, InvalidInput, OutputError.
 SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostream& progress);
+
+/// Reads OUT/summary.csv (of a run or of concatenated shards) and renders the suite's figures.
+/// Throws OutputError (missing or malformed summary, gnuplot failure).
+std::vector<std::filesystem::path> render_suite(const Suite& suite, const SuiteOptions& options);
+
+/// Reads a summary.csv: header line, then rows. Throws OutputError.
+std::vector<SummaryRow> read_summary_csv(const std::filesystem::path& file);
 
 }  // namespace lgvi::experiments

@@ -95,7 +95,20 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgs{"unknown_option", {"simulate", "pendulum", "--bogus"}, {"--bogus"}},
         BadArgs{"no_scene", {"simulate"}, {"SCENE"}},
         BadArgs{"no_subcommand", {}, {"subcommand"}},
-        BadArgs{"unknown_suite", {"suite", "nope", "--out", "res"}, {"suite", "nope", "default"}}),
+        BadArgs{"unknown_suite", {"suite", "nope", "--out", "res"}, {"suite", "nope", "default", "work-precision"}},
+        BadArgs{"shard_index_past_count", {"suite", "extremes", "--quick", "--shard", "3/2", "--out", "res"},
+                {"--shard", "3/2", "less than N"}},
+        BadArgs{"shard_zero_count", {"suite", "extremes", "--quick", "--shard", "0/0", "--out", "res"},
+                {"--shard", "0/0", "at least 1"}},
+        BadArgs{"shard_not_a_fraction", {"suite", "extremes", "--shard", "1-2", "--list"}, {"--shard", "1-2"}},
+        BadArgs{"shard_negative", {"suite", "extremes", "--shard", "-1/2", "--list"}, {"--shard", "-1/2"}},
+        BadArgs{"jobs_zero", {"suite", "extremes", "--quick", "--jobs", "0", "--out", "res"}, {"--jobs"}},
+        BadArgs{"composed_lgvi_with_model", {"simulate", "pendulum", "--method", "lgvi-yoshida4", "--model", "matrix"},
+                {"model", "no coordinate model"}},
+        BadArgs{"unknown_composition", {"simulate", "pendulum", "--method", "lgvi-yoshida5"},
+                {"lgvi-yoshida5", "lgvi-kahan-li6"}},
+        BadArgs{"composed_lgvi_printed_form", {"simulate", "pendulum", "--method", "lgvi-suzuki4", "--form", "printed"},
+                {"--form", "order-2"}}),
     [](const ::testing::TestParamInfo<BadArgs>& info) { return std::string(info.param.what); });
 
 TEST(CliSuite, BadSceneInTheScenesDirStopsBeforeWritingAnything) {
@@ -302,7 +315,7 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   std::vector<std::string> files;
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
-  std::vector<std::string> expected = {"summary.json"};
+  std::vector<std::string> expected = {"summary.csv", "summary.jsonl"};
   for (const char* scene :
        {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "pendulum", "pendulum-controlled"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
@@ -312,11 +325,10 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(files, expected);  // and no temporaries
 
-  const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.json"));
-  ASSERT_EQ(summary.size(), 14u);  // [, 12 runs, ]
-  EXPECT_EQ(summary.front(), "[");
-  EXPECT_EQ(summary.back(), "]");
-  for (std::size_t i = 1; i <= 12; ++i) {
+  const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.jsonl"));
+  ASSERT_EQ(summary.size(), 12u);  // one JSON object per run
+  EXPECT_EQ(lines_of(read_text(dir.work() / "res" / "summary.csv")).size(), 13u);  // header + 12 rows
+  for (std::size_t i = 0; i < 12; ++i) {
     for (const char* key : {"\"scene\": ", "\"method\": \"lgvi\"", "\"form\": ", "\"status\": \"completed\"",
                             "\"newton_iterations\": ", "\"max_newton_iterations\": ", "\"wall_seconds\": ",
                             "\"potential_evaluations\": ", "\"max_energy_error\": ",
@@ -341,7 +353,8 @@ TEST(CliSuite, NoPlotsWithACustomScenesDir) {
   std::vector<std::string> files;
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
-  EXPECT_EQ(files, (std::vector<std::string>{"summary.json", "tiny-printed.csv", "tiny-symmetric.csv"}));
+  EXPECT_EQ(files,
+            (std::vector<std::string>{"summary.csv", "summary.jsonl", "tiny-printed.csv", "tiny-symmetric.csv"}));
 }
 
 }  // namespace

@@ -1,0 +1,146 @@
+#include "experiments/suite_jobs.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "experiments/simulate.hpp"
+#include "lgvi/composition.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+Scene SimulateSpec::load(const fs::path& scenes_dir) const {
+  Scene scene = load_scene(resolve_scene(this->scene, scenes_dir), overrides);
+  if (edit) edit->apply(scene);
+  return scene;
+}
+
+namespace {
+
+std::string spec_description(const SimulateSpec& spec) {
+  std::string d = spec.method;
+  if (spec.options.model) d += " (" + *spec.options.model + ")";
+  if (spec.options.rtol) d += ", rtol = " + shortest(*spec.options.rtol);
+  if (spec.overrides.h && !spec.options.rtol) d += ", h = " + shortest(*spec.overrides.h);
+  return d;
+}
+
+/// Substeps of an LGVI method per step: the composition's stages, 1 for the plain LGVI.
+std::size_t lgvi_stages(const std::string& method) {
+  if (method == "lgvi") return 1;
+  if (method.starts_with("lgvi-")) return composition_scheme(method.substr(5)).gammas.size();
+  return 0;
+}
+
+/// |Omega0| of the scene (the largest body's, for two bodies).
+double initial_rate(const Model& model) {
+  return std::visit(
+      [](const auto& m) -> double {
+        using M = std::decay_t<decltype(m)>;
+        if constexpr (std::is_same_v<M, ConnectedBodiesModel>) {
+          return std::max(m.initial.Omega1.norm(), m.initial.Omega2.norm());
+        } else {
+          return m.initial.Omega.norm();
+        }
+      },
+      model);
+}
+
+double relative(const Vec3& a, const Vec3& ref) {
+  const double n = ref.norm();
+  return n > 0.0 ? (a - ref).norm() / n : (a - ref).norm();
+}
+
+}  // namespace
+
+ReferenceRun::ReferenceRun(SimulateSpec spec) : spec_(std::move(spec)) {}
+
+std::string ReferenceRun::description() const { return spec_description(spec_); }
+
+const Sample& ReferenceRun::final_sample(const fs::path& scenes_dir) const {
+  std::call_once(once_, [&] {
+    try {
+      const Scene scene = spec_.load(scenes_dir);
+      const std::unique_ptr<Method> method = make_method(spec_.method, spec_.options);
+      Recorder recorder(scene.model, scene.horizon.output_every, nullptr, method->records_quaternion_norm());
+      const Stats stats = method->run(scene, recorder);
+      if (!stats.ok()) {
+        error_ = "reference run " + description() + " did not complete: " + stats.brief();
+      } else {
+        final_ = recorder.last();
+      }
+    } catch (const std::exception& e) {
+      error_ = "reference run " + description() + ": " + e.what();
+    }
+  });
+  if (!error_.empty()) throw std::runtime_error(error_);
+  return final_;
+}
+
+double final_state_error(const Model& model, const Sample& s, const Sample& ref) {
+  if (std::abs(s.t - ref.t) > 1e-9 * std::max(1.0, std::abs(ref.t))) return std::numeric_limits<double>::quiet_NaN();
+  double e = std::max((s.R - ref.R).norm(), relative(s.Omega, ref.Omega));
+  if (std::holds_alternative<ConnectedBodiesModel>(model)) {
+    e = std::max({e, (s.R2 - ref.R2).norm(), relative(s.Omega2, ref.Omega2)});
+  }
+  if (std::holds_alternative<DumbbellModel>(model) || std::holds_alternative<CartPendulumModel>(model)) {
+    e = std::max({e, relative(s.x, ref.x), relative(s.v, ref.v)});
+  }
+  return e;
+}
+
+SimulateJob::SimulateJob(SimulateSpec spec, std::shared_ptr<const ReferenceRun> reference)
+    : spec_(std::move(spec)), reference_(std::move(reference)) {}
+
+void SimulateJob::validate(const fs::path& scenes_dir) const {
+  // The scene file and the method; the edit (a sweep's extreme value) is judged at run time.
+  (void)load_scene(resolve_scene(spec_.scene, scenes_dir), spec_.overrides);
+  (void)make_method(spec_.method, spec_.options);
+}
+
+JobResult SimulateJob::run(const JobContext& ctx) const {
+  std::optional<Scene> loaded;
+  try {
+    loaded.emplace(spec_.load(ctx.scenes_dir));
+  } catch (const InvalidInput& e) {
+    // An edited scene outside the validated domain (e.g. an inertia past the triangle
+    // inequality): a finding of an extremes sweep, not a crash.
+    return {false, "rejected-input", e.what(), {{"variant", spec_.edit ? spec_.edit->description : std::string()}}};
+  }
+  const Scene& scene = *loaded;
+  const std::unique_ptr<Method> method = make_method(spec_.method, spec_.options);
+  SimulateOptions options{ctx.out_dir / (ctx.case_id + ".csv"), ctx.command_line, {}};
+  const std::string variant = spec_.edit ? spec_.edit->description : std::string();
+  if (!variant.empty()) options.extra_metadata.push_back({"variant", variant});
+  const Sample* reference = nullptr;
+  if (reference_) {
+    reference = &reference_->final_sample(ctx.scenes_dir);
+    options.extra_metadata.push_back({"reference", reference_->description()});
+  }
+  const RunSummary r = simulate(scene, *method, options);
+
+  JobResult out;
+  out.completed = r.stats.ok();
+  out.status = to_string(r.stats.status);
+  out.detail = r.stats.brief();
+  out.fields = r.to_fields();
+  const std::size_t stages = lgvi_stages(spec_.method);
+  const std::size_t evaluations = stages > 0 ? r.stats.steps * stages : r.stats.rhs_evaluations;
+  out.fields.push_back({"variant", variant});
+  out.fields.push_back({"h_omega", scene.horizon.h * initial_rate(scene.model)});
+  out.fields.push_back({"evaluations", static_cast<std::int64_t>(evaluations)});
+  out.fields.push_back({"integrator_seconds", std::max(0.0, r.stats.wall_seconds - r.recording_seconds)});
+  // The CSV's name relative to the suite's output directory (case ids may contain '/').
+  out.fields.push_back({"csv_path", ctx.case_id + ".csv"});
+  if (reference != nullptr) {
+    const double e = out.completed ? final_state_error(scene.model, r.final_sample, *reference)
+                                   : std::numeric_limits<double>::quiet_NaN();
+    out.fields.push_back({"final_error", e});
+    out.fields.push_back({"reference", reference_->description()});
+  }
+  return out;
+}
+
+}  // namespace lgvi::experiments

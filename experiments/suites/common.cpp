@@ -1,0 +1,214 @@
+#include "experiments/suites/common.hpp"
+
+#include <cstdio>
+#include <map>
+
+#include "baselines/model.hpp"
+#include "baselines/solver.hpp"
+#include "experiments/atomic_file.hpp"
+#include "experiments/plot.hpp"
+#include "lgvi/composition.hpp"
+
+namespace lgvi::experiments::suites {
+
+namespace fs = std::filesystem;
+
+bool MethodSpec::fixed_step() const {
+  return is_lgvi() || baselines::solver_info(method).step_control == baselines::StepControl::Fixed;
+}
+
+std::string MethodSpec::label() const {
+  if (method == "lgvi") return "LGVI order 2";
+  if (is_lgvi()) {
+    const std::string scheme = method.substr(5);
+    return "LGVI order " + std::to_string(composition_scheme(scheme).order) + " (" + scheme + ")";
+  }
+  return method + " (" + model.value_or("?") + ")";
+}
+
+std::string MethodSpec::id() const { return model ? method + "-" + *model : method; }
+
+std::vector<MethodSpec> lgvi_methods(bool quick) {
+  if (quick) return {{"lgvi"}, {"lgvi-yoshida4"}, {"lgvi-kahan-li6"}};
+  return {{"lgvi"}, {"lgvi-yoshida4"}, {"lgvi-suzuki4"}, {"lgvi-yoshida6"}, {"lgvi-kahan-li6"}};
+}
+
+std::vector<MethodSpec> long_run_methods(bool quick) {
+  std::vector<MethodSpec> m = lgvi_methods(quick);
+  if (quick) {
+    for (const auto& [method, model] : std::vector<std::pair<const char*, const char*>>{
+             {"cvode-adams", "quaternion"},
+             {"cvode-bdf", "quaternion"},
+             {"odeint-rk4", "quaternion"},
+             {"odeint-rk4", "quaternion-renormalized"},
+             {"odeint-rk4", "matrix"},
+             {"odeint-dopri5", "quaternion"},
+             {"odeint-dopri5", "matrix"},
+             {"gsl-rk8pd", "quaternion"},
+             {"gsl-rk4imp", "quaternion"}}) {
+      m.push_back({method, std::string(model), std::nullopt});
+    }
+    return m;
+  }
+  for (const baselines::SolverInfo& info : baselines::solver_list()) {
+    for (const std::string& model : baselines::coordinate_model_names()) {
+      if (model == "quaternion-renormalized" && !info.post_step_hook) continue;
+      m.push_back({info.name, model, std::nullopt});
+    }
+  }
+  return m;
+}
+
+const std::vector<std::string>& simulation_columns() {
+  static const std::vector<std::string> columns = {
+      "scene",           "system",           "label",           "method",           "model",
+      "form",            "variant",          "h",               "rtol",             "h_omega",
+      "t_final",         "steps",            "evaluations",     "rhs_evaluations",  "newton_iterations",
+      "integrator_seconds", "max_energy_error", "max_orthogonality_error", "max_quaternion_norm_error",
+      "max_momentum_drift", "final_error",   "reference",       "csv_path"};
+  return columns;
+}
+
+SuiteCase simulate_case(const std::string& id, const std::string& group, SimulateSpec spec, const MethodSpec& m,
+                        Expectation expect, std::shared_ptr<const ReferenceRun> reference) {
+  spec.method = m.method;
+  spec.options = m.options();
+  Fields labels = {{"scene", spec.scene}, {"label", m.label()}, {"method", m.method}};
+  if (m.model) labels.push_back({"model", *m.model});
+  if (spec.edit) labels.push_back({"variant", spec.edit->description});
+  if (m.rtol) {
+    labels.push_back({"rtol", *m.rtol});
+  } else if (spec.overrides.h) {
+    labels.push_back({"h", *spec.overrides.h});
+  }
+  SuiteCase c;
+  c.id = id;
+  c.group = group;
+  c.labels = std::move(labels);
+  c.expect = expect;
+  c.job = std::make_shared<SimulateJob>(std::move(spec), std::move(reference));
+  return c;
+}
+
+SystemLabels system_labels(const std::string& system) {
+  if (system == "dumbbell") {
+    return {"time [normalized: orbit period 2π]", "|E - E_0| [normalized]",
+            "|H - H_0| [normalized],  H = x × m v + R J Ω"};
+  }
+  if (system == "cart-pendulum") {
+    return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]"};
+  }
+  if (system == "connected-bodies") return {"time [s]", "|E - E_0| [J]", "|R_1 Π_1 + R_2 Π_2 - (...)_0| [kg m^2/s]"};
+  if (system == "pendulum") return {"time [s]", "|E - E_0| [J]", "|e_3^T R J Ω - (e_3^T R J Ω)_0| [kg m^2/s]"};
+  return {"time [s]", "|E - E_0| [J]", "|R J Ω - (R J Ω)_0| [kg m^2/s]"};
+}
+
+namespace {
+
+std::string gnuplot_string(const std::string& text) {
+  std::string q = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+/// The curve-list file the scripts load (gnuplot -c takes at most 9 arguments): n, file[i],
+/// label[i]. A temporary next to the figure, removed with `list`.
+void write_curve_list(const TempPath& list, const std::vector<Curve>& curves) {
+  std::string text = "n = " + std::to_string(curves.size()) + "\narray file[n]\narray label[n]\n";
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    text += "file[" + std::to_string(i + 1) + "] = " + gnuplot_string(curves[i].csv.string()) + "\n";
+    text += "label[" + std::to_string(i + 1) + "] = " + gnuplot_string(curves[i].label) + "\n";
+  }
+  std::FILE* f = std::fopen(list.path().c_str(), "w");
+  if (f == nullptr) throw OutputError(list.path().string() + ": cannot write the figure's curve list");
+  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  if (std::fclose(f) != 0 || !ok) throw OutputError(list.path().string() + ": cannot write the figure's curve list");
+}
+
+}  // namespace
+
+fs::path plot_time_series(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+                          const std::string& ylabel, const std::string& column, bool log_x,
+                          const std::vector<const SummaryRow*>& rows) {
+  std::vector<Curve> curves;
+  std::string system;
+  for (const SummaryRow* r : rows) {
+    const fs::path csv = ctx.data_dir / r->text("csv_path");
+    std::error_code ec;
+    if (r->text("csv_path").empty() || !fs::is_regular_file(csv, ec)) continue;  // no run (rejected input, error)
+    std::string label = r->text("label");
+    if (r->text("status") != "completed") label += " [" + r->text("status") + "]";
+    curves.push_back({csv, label});
+    system = r->text("system");
+  }
+  if (curves.empty()) return {};
+  const fs::path png = ctx.out_dir / png_name;
+  const TempPath list(png.string() + ".curves");
+  write_curve_list(list, curves);
+  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "time_series.gp", png,
+                     {title, system_labels(system).time, ylabel, list.path().string(), column + (log_x ? ":logx" : "")});
+  return png;
+}
+
+fs::path plot_xy(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+                 const std::string& xlabel, const std::string& ylabel, const std::vector<XyCurve>& curves) {
+  const fs::path png = ctx.out_dir / png_name;
+  // The points go through a temporary data file (one gnuplot data block per curve), removed
+  // afterwards: the figure is the output, the numbers are in summary.csv.
+  TempPath data(png.string() + ".dat");
+  std::string text;
+  std::vector<Curve> args;
+  for (const XyCurve& c : curves) {
+    std::string block;
+    for (const auto& [x, y] : c.points) {
+      if (!(x > 0.0) || !(y > 0.0) || !std::isfinite(x) || !std::isfinite(y)) continue;  // log axes
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.17g %.17g\n", x, y);
+      block += buf;
+    }
+    if (block.empty()) continue;
+    text += block + "\n\n";
+    args.push_back({data.path(), c.label});
+  }
+  if (args.empty()) return {};
+  {
+    std::FILE* f = std::fopen(data.path().c_str(), "w");
+    if (f == nullptr) throw OutputError(data.path().string() + ": cannot write the figure's data");
+    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (std::fclose(f) != 0 || !ok) throw OutputError(data.path().string() + ": cannot write the figure's data");
+  }
+  const TempPath list(png.string() + ".curves");
+  write_curve_list(list, args);
+  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "xy_loglog.gp", png, {title, xlabel, ylabel, list.path().string()});
+  return png;
+}
+
+fs::path write_text_file(const RenderContext& ctx, const std::string& name, const std::string& text) {
+  AtomicFile f(ctx.out_dir / name);
+  f.write(text);
+  f.commit();
+  return ctx.out_dir / name;
+}
+
+std::vector<std::pair<std::string, std::vector<const SummaryRow*>>> by_group(const std::vector<SummaryRow>& rows) {
+  std::vector<std::pair<std::string, std::vector<const SummaryRow*>>> groups;
+  std::map<std::string, std::size_t> where;
+  for (const SummaryRow& r : rows) {
+    const std::string& g = r.text("group");
+    const auto [it, inserted] = where.emplace(g, groups.size());
+    if (inserted) groups.push_back({g, {}});
+    groups[it->second].second.push_back(&r);
+  }
+  return groups;
+}
+
+std::string fmt(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", x);
+  return buf;
+}
+
+}  // namespace lgvi::experiments::suites

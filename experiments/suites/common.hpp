@@ -1,0 +1,91 @@
+// Building blocks of the integrator suites: method rosters, case construction, summary columns
+// and the figure helpers (time series of case CSVs, x-y curves of summary rows).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "experiments/suite.hpp"
+#include "experiments/suite_jobs.hpp"
+
+namespace lgvi::experiments::suites {
+
+/// A method with its coordinate model and tolerance (adaptive baselines) as a suite runs it.
+struct MethodSpec {
+  MethodSpec(std::string method_, std::optional<std::string> model_ = std::nullopt,
+             std::optional<double> rtol_ = std::nullopt)
+      : method(std::move(method_)), model(std::move(model_)), rtol(rtol_) {}
+
+  std::string method;                 ///< make_method name
+  std::optional<std::string> model;   ///< baselines only
+  std::optional<double> rtol;         ///< adaptive baselines only (atol = rtol)
+
+  bool is_lgvi() const { return method == "lgvi" || method.starts_with("lgvi-"); }
+  bool fixed_step() const;
+  /// Legend text naming method and model: "LGVI order 4 (yoshida4)", "cvode-bdf, quaternion".
+  std::string label() const;
+  /// File-name part: "lgvi-yoshida4", "cvode-bdf-quaternion".
+  std::string id() const;
+  MethodOptions options() const { return {model, rtol, std::nullopt}; }
+};
+
+/// LGVI order 2, 4 and 6 (quick: lgvi, lgvi-yoshida4, lgvi-kahan-li6; full adds suzuki4 and
+/// yoshida6).
+std::vector<MethodSpec> lgvi_methods(bool quick);
+/// Methods of the long-horizon suites. Quick: the LGVIs of order 2, 4, 6, CVODE Adams and BDF,
+/// odeint RK4 and Dormand-Prince on the quaternion and matrix models, RK4 with renormalized
+/// quaternions, GSL rk8pd and rk4imp. Full: every LGVI and every solver on every model it
+/// accepts (Euler angles included).
+std::vector<MethodSpec> long_run_methods(bool quick);
+
+/// Summary columns of the integrator suites.
+const std::vector<std::string>& simulation_columns();
+
+/// A case running `spec` (case id "<prefix><scene>-<method id>[suffix]").
+SuiteCase simulate_case(const std::string& id, const std::string& group, SimulateSpec spec, const MethodSpec& m,
+                        Expectation expect, std::shared_ptr<const ReferenceRun> reference = nullptr);
+
+/// Axis labels of a system in its units (gnuplot enhanced text).
+struct SystemLabels {
+  std::string time, energy, momentum;
+};
+SystemLabels system_labels(const std::string& system);
+
+/// A figure of one CSV column against time, one curve per case of `rows` (failed runs drawn up
+/// to their last good step). log_x: logarithmic time axis (t = 0 left out).
+std::filesystem::path plot_time_series(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+                                       const std::string& ylabel, const std::string& column, bool log_x,
+                                       const std::vector<const SummaryRow*>& rows);
+
+/// One curve of an x-y figure: points in drawing order.
+struct XyCurve {
+  std::string label;
+  std::vector<std::pair<double, double>> points;
+};
+/// Log-log x-y figure (gnuplot script xy_loglog.gp); curves without points are left out.
+std::filesystem::path plot_xy(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+                              const std::string& xlabel, const std::string& ylabel, const std::vector<XyCurve>& curves);
+
+/// Writes text to ctx.out_dir / name atomically; returns the path.
+std::filesystem::path write_text_file(const RenderContext& ctx, const std::string& name, const std::string& text);
+
+/// The rows of each group, groups in first-appearance order.
+std::vector<std::pair<std::string, std::vector<const SummaryRow*>>> by_group(const std::vector<SummaryRow>& rows);
+
+/// "%.2g" of a number.
+std::string fmt(double x);
+
+// The suites (experiments/suites/*.cpp).
+Suite default_suite(const SuiteParams& params);
+Suite energy_drift_suite(const SuiteParams& params);
+Suite orthogonality_suite(const SuiteParams& params);
+Suite momentum_suite(const SuiteParams& params);
+Suite work_precision_suite(const SuiteParams& params);
+Suite extremes_suite(const SuiteParams& params);
+/// Every integrator suite above except "default", cases prefixed "<suite>/" (one subdirectory
+/// per suite), each rendered by its own renderer.
+Suite all_suite(const SuiteParams& params);
+
+}  // namespace lgvi::experiments::suites

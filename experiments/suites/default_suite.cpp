@@ -1,0 +1,66 @@
+// "default": every scene of the scenes directory with the symmetric and the printed LGVI, at
+// the scene's own step and horizon; per scene, figures of the energy, orthogonality and
+// momentum errors of both forms.
+#include "experiments/atomic_file.hpp"
+#include "experiments/plot.hpp"
+#include "experiments/scene.hpp"
+#include "experiments/suites/common.hpp"
+
+namespace lgvi::experiments::suites {
+
+namespace fs = std::filesystem;
+
+Suite default_suite(const SuiteParams& params) {
+  Suite s;
+  s.name = "default";
+  s.description = "every scene of the scenes directory with the symmetric and the printed LGVI";
+  s.columns = simulation_columns();
+  s.columns.push_back("momentum_map");
+  const MethodSpec lgvi("lgvi");
+  for (const std::string& scene : scene_names(params.scenes_dir)) {
+    for (const LgviForm form : {LgviForm::Symmetric, LgviForm::Printed}) {
+      SimulateSpec spec;
+      spec.scene = scene;
+      spec.overrides.form = form;
+      SuiteCase c = simulate_case(scene + "-" + to_string(form), scene, spec, lgvi, Expectation::Complete);
+      for (Field& f : c.labels) {
+        if (f.key == "label") f.value = "LGVI (" + std::string(to_string(form)) + ")";
+      }
+      s.cases.push_back(std::move(c));
+    }
+  }
+  s.render = [](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
+    std::vector<fs::path> files;
+    for (const auto& [scene, group] : by_group(rows)) {
+      std::vector<Curve> curves;
+      for (const SummaryRow* r : group) {
+        const fs::path csv = ctx.data_dir / r->text("csv_path");
+        std::error_code ec;
+        if (fs::is_regular_file(csv, ec)) curves.push_back({csv, r->text("label")});
+      }
+      if (curves.empty()) continue;
+      const SummaryRow& first = *group.front();
+      const SystemLabels labels = system_labels(first.text("system"));
+      const std::string suffix = ", h = " + first.text("h");
+      const struct {
+        const char* script;
+        const char* kind;
+        std::string title;
+        std::string ylabel;
+      } figures[] = {
+          {"energy_error.gp", "energy", scene + ": energy error" + suffix, labels.energy},
+          {"orthogonality.gp", "orthogonality", scene + ": orthogonality error" + suffix, "||R^T R - I||_F"},
+          {"momentum.gp", "momentum", scene + ": " + first.text("momentum_map") + " error" + suffix, labels.momentum},
+      };
+      for (const auto& f : figures) {
+        const fs::path png = ctx.out_dir / (scene + "-" + f.kind + ".png");
+        render_plot(ctx.gnuplot, ctx.plots_dir / f.script, png, f.title, labels.time, f.ylabel, curves);
+        files.push_back(png);
+      }
+    }
+    return files;
+  };
+  return s;
+}
+
+}  // namespace lgvi::experiments::suites

@@ -1,0 +1,74 @@
+// The suite registry and the "all" meta-suite. A new suite (e.g. the optimal-control
+// sensitivity and shooting suites) is a SuiteFactory returning its cases (any Job) and a
+// renderer, listed once below.
+#include <algorithm>
+
+#include "experiments/suites/common.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+const std::vector<SuiteEntry>& suite_registry() {
+  static const std::vector<SuiteEntry> registry = {
+      {"default", "every scene of the scenes directory with the symmetric and the printed LGVI",
+       suites::default_suite},
+      {"energy-drift", "energy error over 10^5 (quick) / 10^7 steps, every method: free body, pendulum, dumbbell",
+       suites::energy_drift_suite},
+      {"orthogonality", "||R^T R - I|| and quaternion norm error vs time, every method: free body, pendulum",
+       suites::orthogonality_suite},
+      {"momentum", "momentum maps vs time: pendulum, free body, connected bodies", suites::momentum_suite},
+      {"work-precision", "final-state and energy error vs wall time and evaluations, sweeping h and rtol",
+       suites::work_precision_suite},
+      {"extremes", "where methods break: large h|Omega|, fast spin, near-flat inertia, tiny steps, gimbal lock",
+       suites::extremes_suite},
+      {"all", "every suite above except default, one subdirectory each", suites::all_suite},
+  };
+  return registry;
+}
+
+namespace suites {
+
+Suite all_suite(const SuiteParams& params) {
+  Suite all;
+  all.name = "all";
+  all.description = "every suite except default, one subdirectory each";
+  std::vector<Suite> parts;
+  for (const SuiteEntry& e : suite_registry()) {
+    if (e.name == "all" || e.name == "default") continue;
+    parts.push_back(e.make(params));
+  }
+  for (Suite& part : parts) {
+    for (SuiteCase& c : part.cases) {
+      c.id = part.name + "/" + c.id;
+      c.group = part.name + "/" + c.group;
+      all.cases.push_back(std::move(c));
+    }
+    for (const std::string& col : part.columns) {
+      if (std::find(all.columns.begin(), all.columns.end(), col) == all.columns.end()) all.columns.push_back(col);
+    }
+  }
+  // Each part renders its own rows into its subdirectory, with its own group names.
+  all.render = [parts](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
+    std::vector<fs::path> files;
+    for (const Suite& part : parts) {
+      if (!part.render) continue;
+      const std::string prefix = part.name + "/";
+      std::vector<SummaryRow> mine;
+      for (const SummaryRow& r : rows) {
+        if (!r.text("case").starts_with(prefix)) continue;
+        mine.push_back(r.with("group", r.text("group").substr(std::min(prefix.size(), r.text("group").size()))));
+      }
+      if (mine.empty()) continue;
+      RenderContext sub = ctx;
+      sub.out_dir = ctx.out_dir / part.name;
+      const std::vector<fs::path> more = part.render(sub, mine);
+      files.insert(files.end(), more.begin(), more.end());
+    }
+    return files;
+  };
+  return all;
+}
+
+}  // namespace suites
+}  // namespace lgvi::experiments

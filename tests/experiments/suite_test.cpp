@@ -1,0 +1,411 @@
+// The suite harness: case lists per suite (quick and full), sharding (disjoint blocks whose
+// union is the suite, summaries that merge by concatenation), atomic outputs (a failing or
+// killed case leaves no truncated file), one quick suite end to end, the composed LGVIs as
+// methods.
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "experiments/csv_writer.hpp"
+#include "experiments/scene.hpp"
+#include "experiments/suite.hpp"
+#include "tests/experiments/cli_support.hpp"
+
+namespace lgvi::test {
+namespace {
+
+using experiments::Expectation;
+using experiments::Suite;
+using experiments::SuiteCase;
+using experiments::SuiteParams;
+
+std::string label(const SuiteCase& c, const std::string& key) {
+  for (const experiments::Field& f : c.labels) {
+    if (f.key == key) return experiments::to_text(f.value);
+  }
+  return "";
+}
+
+Suite suite(const std::string& name, bool quick) {
+  return experiments::make_suite(name, SuiteParams{quick, experiments::default_scenes_dir()});
+}
+
+const std::vector<std::string> kSuites = {"energy-drift", "orthogonality", "momentum", "work-precision", "extremes"};
+
+// --- case lists ----------------------------------------------------------------------------------
+
+TEST(SuiteCases, EverySuiteHasUniqueIdsAndTheQuickFormIsASmallerList) {
+  for (const std::string& name : kSuites) {
+    const Suite q = suite(name, true);
+    const Suite f = suite(name, false);
+    EXPECT_FALSE(q.cases.empty()) << name;
+    EXPECT_LT(q.cases.size(), f.cases.size()) << name;
+    for (const Suite* s : {&q, &f}) {
+      std::set<std::string> ids;
+      for (const SuiteCase& c : s->cases) {
+        EXPECT_TRUE(ids.insert(c.id).second) << name << ": duplicate " << c.id;
+        EXPECT_NE(c.job, nullptr) << c.id;
+        EXPECT_FALSE(c.group.empty()) << c.id;
+      }
+      EXPECT_TRUE(static_cast<bool>(s->render)) << name;
+    }
+  }
+}
+
+TEST(SuiteCases, AllIsTheUnionOfTheSuitesEachInItsSubdirectory) {
+  for (const bool quick : {true, false}) {
+    const Suite all = suite("all", quick);
+    std::vector<std::string> expected;
+    for (const std::string& name : kSuites) {
+      for (const SuiteCase& c : suite(name, quick).cases) expected.push_back(name + "/" + c.id);
+    }
+    std::vector<std::string> ids;
+    for (const SuiteCase& c : all.cases) ids.push_back(c.id);
+    EXPECT_EQ(ids, expected);
+  }
+}
+
+TEST(SuiteCases, EnergyDriftRunsEveryRosterMethodOnTheThreeUncontrolledScenes) {
+  const Suite s = suite("energy-drift", true);
+  std::map<std::string, std::set<std::string>> methods;  // scene -> method (model)
+  for (const SuiteCase& c : s.cases) methods[label(c, "scene")].insert(label(c, "label"));
+  EXPECT_EQ(methods.size(), 3u);
+  for (const char* scene : {"free-body", "pendulum", "dumbbell"}) {
+    ASSERT_TRUE(methods.count(scene)) << scene;
+    EXPECT_EQ(methods[scene], methods["free-body"]) << scene;  // the same roster everywhere
+    for (const char* m : {"LGVI order 2", "LGVI order 4 (yoshida4)", "LGVI order 6 (kahan-li6)", "cvode-bdf (quaternion)",
+                          "odeint-rk4 (matrix)"}) {
+      EXPECT_TRUE(methods[scene].count(m)) << scene << ": " << m;
+    }
+  }
+  // The full form runs every solver on every model it accepts.
+  std::set<std::string> full;
+  for (const SuiteCase& c : suite("energy-drift", false).cases) full.insert(label(c, "label"));
+  for (const char* m : {"gsl-msbdf (euler)", "odeint-bs (matrix)", "cvode-bdf (quaternion-renormalized)",
+                        "LGVI order 4 (suzuki4)", "LGVI order 6 (yoshida6)"}) {
+    EXPECT_TRUE(full.count(m)) << m;
+  }
+}
+
+TEST(SuiteCases, WorkPrecisionCoversTheRequiredMethodsOnPendulumAndFreeBody) {
+  const Suite s = suite("work-precision", true);
+  std::map<std::string, std::map<std::string, std::set<std::string>>> sweep;  // scene -> method -> h or rtol
+  for (const SuiteCase& c : s.cases) {
+    sweep[label(c, "scene")][label(c, "label")].insert(label(c, "rtol").empty() ? label(c, "h") : label(c, "rtol"));
+  }
+  for (const char* scene : {"pendulum", "free-body"}) {
+    for (const char* m : {"LGVI order 2", "LGVI order 4 (yoshida4)", "LGVI order 6 (kahan-li6)",
+                          "cvode-adams (quaternion)", "cvode-bdf (quaternion)", "odeint-rk4 (quaternion)",
+                          "odeint-rk4 (matrix)", "odeint-dopri5 (quaternion)", "odeint-dopri5 (matrix)",
+                          "gsl-rk8pd (quaternion)", "gsl-rk4imp (quaternion)"}) {
+      ASSERT_TRUE(sweep[scene].count(m)) << scene << ": " << m;
+      EXPECT_GE(sweep[scene][m].size(), 5u) << scene << ": " << m << " needs a sweep";
+    }
+  }
+}
+
+TEST(SuiteCases, ExtremesExpectGimbalLockToStopTheEulerModelAndSmallStepsToWork) {
+  const Suite s = suite("extremes", true);
+  std::size_t euler = 0;
+  for (const SuiteCase& c : s.cases) {
+    if (c.group == "gimbal-lock" && label(c, "model") == "euler") {
+      ++euler;
+      EXPECT_EQ(c.expect, Expectation::Fail) << c.id;
+    }
+    if (c.group == "step-size" && c.id.find("-hw0.01-") != std::string::npos) {
+      EXPECT_EQ(c.expect, Expectation::Complete) << c.id;
+    }
+  }
+  EXPECT_GE(euler, 3u);
+  std::set<std::string> groups;
+  for (const SuiteCase& c : s.cases) groups.insert(c.group);
+  EXPECT_EQ(groups, (std::set<std::string>{"step-size", "fast-spin", "inertia", "tiny-steps", "gimbal-lock"}));
+}
+
+// --- sharding -----------------------------------------------------------------------------------
+
+TEST(SuiteShards, TheShardsAreDisjointContiguousAndTheirUnionIsEveryCase) {
+  for (std::size_t n = 0; n <= 40; ++n) {
+    for (std::size_t count = 1; count <= 9; ++count) {
+      std::vector<std::size_t> merged;
+      std::size_t smallest = n, largest = 0;
+      for (std::size_t i = 0; i < count; ++i) {
+        const auto part = experiments::shard_cases(n, {i, count});
+        smallest = std::min(smallest, part.size());
+        largest = std::max(largest, part.size());
+        merged.insert(merged.end(), part.begin(), part.end());
+      }
+      std::vector<std::size_t> all(n);
+      for (std::size_t k = 0; k < n; ++k) all[k] = k;
+      EXPECT_EQ(merged, all) << n << " cases, " << count << " shards";  // in order: no overlap, no gap
+      EXPECT_LE(largest - std::min(smallest, largest), 1u) << n << " cases, " << count << " shards";
+    }
+  }
+}
+
+TEST(SuiteShards, ParsesIOverNAndRejectsTheRest) {
+  const experiments::Shard s = experiments::parse_shard("2/5");
+  EXPECT_EQ(s.index, 2u);
+  EXPECT_EQ(s.count, 5u);
+  for (const char* bad : {"3/2", "2/2", "0/0", "1", "/2", "1/", "a/2", "1/2/3", "-1/2", "1 /2"}) {
+    EXPECT_THROW(experiments::parse_shard(bad), InvalidInput) << bad;
+  }
+}
+
+TEST(SuiteShards, ListedShardsConcatenateToTheWholeList) {
+  TempDir dir;
+  const CliResult whole = run_testbed(dir, {"suite", "work-precision", "--quick", "--list"});
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  EXPECT_EQ(lines_of(whole.out).size(), suite("work-precision", true).cases.size());
+  std::string merged;
+  for (int i = 0; i < 3; ++i) {
+    const CliResult part =
+        run_testbed(dir, {"suite", "work-precision", "--quick", "--list", "--shard", std::to_string(i) + "/3"});
+    ASSERT_EQ(part.exit_code, 0) << part.err;
+    merged += part.out;
+  }
+  EXPECT_EQ(merged, whole.out);
+  EXPECT_TRUE(dir.work_entries().empty());
+}
+
+/// summary.csv without the columns that measure time (they differ between runs).
+std::vector<std::vector<std::string>> untimed(const std::string& csv) {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::size_t> timed;
+  for (const std::string& line : lines_of(csv)) {
+    std::vector<std::string> cells = split(line + ",", ',');
+    if (rows.empty()) {
+      for (std::size_t j = 0; j < cells.size(); ++j) {
+        if (cells[j].find("seconds") != std::string::npos || cells[j] == "detail") timed.push_back(j);
+      }
+    }
+    for (const std::size_t j : timed) {
+      if (j < cells.size()) cells[j] = "";
+    }
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST(SuiteShards, ShardSummariesMergeByConcatenationAndRenderAfterwards) {
+  // Three tiny scenes through the default suite: 6 cases, in 4 shards (block sizes 1 and 2).
+  TempDir dir;
+  for (const char* name : {"a", "b", "c"}) {
+    write_text(dir.scenes() / (std::string(name) + ".toml"),
+               edited_scene("pendulum", "t_final = 20.0", "t_final = 0.1"));
+  }
+  const std::vector<std::string> base = {"--scenes-dir", dir.scenes().string(), "suite", "default"};
+  auto args = [&](std::vector<std::string> more) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  };
+  const CliResult whole = run_testbed(dir, args({"--out", "whole", "--jobs", "2", "--no-plots"}));
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  std::string csv, jsonl;
+  for (int i = 0; i < 4; ++i) {
+    const CliResult r = run_testbed(dir, args({"--out", "merged", "--shard", std::to_string(i) + "/4", "--jobs", "2"}));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    // Each shard's summaries, collected before the next shard overwrites them in "merged".
+    csv += read_text(dir.work() / "merged" / "summary.csv");
+    jsonl += read_text(dir.work() / "merged" / "summary.jsonl");
+    EXPECT_EQ(lines_of(read_text(dir.work() / "merged" / "summary.csv")).front().rfind("index,", 0) == 0, i == 0);
+  }
+  EXPECT_EQ(untimed(csv), untimed(read_text(dir.work() / "whole" / "summary.csv")));
+  EXPECT_EQ(lines_of(jsonl).size(), 6u);
+  EXPECT_EQ(lines_of(read_text(dir.work() / "whole" / "summary.jsonl")).size(), 6u);
+  // Merged: every case CSV from the shards and the concatenated summary; then the figures.
+  write_text(dir.work() / "merged" / "summary.csv", csv);
+  const CliResult render = run_testbed(dir, args({"--out", "merged", "--render-only"}));
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  for (const char* name : {"a", "b", "c"}) {
+    for (const char* kind : {"-energy.png", "-orthogonality.png", "-momentum.png"}) {
+      EXPECT_EQ(read_text(dir.work() / "merged" / (std::string(name) + kind)).substr(1, 3), "PNG") << name << kind;
+    }
+  }
+  EXPECT_EQ(experiments::read_summary_csv(dir.work() / "merged" / "summary.csv").size(), 6u);
+}
+
+TEST(SuiteShards, RenderingWithoutTheFirstShardsHeaderNamesTheProblem) {
+  TempDir dir;
+  fs::create_directories(dir.work() / "res");
+  write_text(dir.work() / "res" / "summary.csv", "3,a-symmetric,a,complete\n");
+  const CliResult r = run_testbed(dir, {"suite", "default", "--out", "res", "--render-only"});
+  EXPECT_EQ(r.exit_code, 3);
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("no header line"), std::string::npos) << r.err;
+}
+
+// --- atomic outputs ----------------------------------------------------------------------------
+
+/// Names in `dir` (recursively) that are temporaries (hidden files).
+std::vector<std::string> hidden_files(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.path().filename().string().front() == '.') names.push_back(e.path().string());
+  }
+  return names;
+}
+
+TEST(SuiteAtomic, AWriterThatDiesMidWriteLeavesNoFile) {
+  TempDir dir;
+  const fs::path target = dir.work() / "case.csv";
+  try {
+    experiments::CsvWriter csv(target, {"t", "x"});
+    for (int k = 0; k < 1000; ++k) {
+      const double row[] = {k * 0.1, 1.0};
+      csv.write_row(row);
+    }
+    throw std::runtime_error("the case failed mid-write");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_TRUE(dir.work_entries().empty());
+}
+
+/// Every visible CSV in `dir` is complete: metadata with the final status, a header, and rows
+/// with as many cells as the header.
+void expect_complete_csvs(const fs::path& dir) {
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.front() == '.' || e.path().extension() != ".csv" || name == "summary.csv") continue;
+    const std::string text = read_text(e.path());
+    ASSERT_FALSE(text.empty()) << name;
+    EXPECT_EQ(text.back(), '\n') << name;
+    const CsvParts csv = read_csv(e.path());  // checks the cell count of every row
+    EXPECT_NE(csv.meta("status"), "<missing>") << name;
+    EXPECT_FALSE(csv.rows.empty()) << name;
+  }
+}
+
+TEST(SuiteAtomic, AKilledSuiteLeavesOnlyCompleteFiles) {
+  TempDir dir;
+  const fs::path out = dir.work() / "res";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    dup2(null, 1);
+    dup2(null, 2);
+    execl(LGVI_TESTBED_EXE, LGVI_TESTBED_EXE, "suite", "energy-drift", "--quick", "--no-plots", "--jobs", "2", "--out",
+          out.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Kill it while cases are being written: once the first case CSV has appeared.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  bool some = false;
+  while (!some && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::error_code ec;
+    if (fs::is_directory(out, ec)) {
+      for (const auto& e : fs::directory_iterator(out)) some = some || e.path().filename().string().front() != '.';
+    }
+  }
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(some) << "no case finished within 60 s";
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the suite finished before it was killed: the test proves nothing";
+  expect_complete_csvs(out);
+  EXPECT_FALSE(fs::exists(out / "summary.csv"));  // written after all cases
+}
+
+// --- end to end ----------------------------------------------------------------------------------
+
+TEST(SuiteEndToEnd, QuickExtremesRunsRecordsAndPlots) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"suite", "extremes", "--quick", "--out", "res", "--jobs", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const Suite s = suite("extremes", true);
+  const fs::path res = dir.work() / "res";
+  // Progress: one line per case with done/total.
+  EXPECT_NE(r.out.find("[" + std::to_string(s.cases.size()) + "/" + std::to_string(s.cases.size()) + "]"),
+            std::string::npos);
+  EXPECT_TRUE(hidden_files(res).empty()) << hidden_files(res).front();
+  expect_complete_csvs(res);
+
+  const auto rows = experiments::read_summary_csv(res / "summary.csv");
+  ASSERT_EQ(rows.size(), s.cases.size());
+  EXPECT_EQ(lines_of(read_text(res / "summary.jsonl")).size(), s.cases.size());
+  std::size_t singular = 0, failed_large_steps = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].text("case"), s.cases[i].id);  // case order
+    EXPECT_EQ(rows[i].text("as_expected"), "true") << s.cases[i].id;
+    if (rows[i].text("status") == "completed") {
+      EXPECT_TRUE(fs::is_regular_file(res / rows[i].text("csv_path"))) << s.cases[i].id;
+      EXPECT_TRUE(rows[i].number("max_energy_error").has_value()) << s.cases[i].id;
+    }
+    if (rows[i].text("group") == "gimbal-lock" && rows[i].text("model") == "euler") {
+      singular += rows[i].text("status") == "coordinate singularity" ? 1 : 0;
+    }
+    if (rows[i].text("group") == "step-size" && rows[i].text("status") != "completed") ++failed_large_steps;
+  }
+  EXPECT_GE(singular, 3u);
+  EXPECT_GT(failed_large_steps, 0u) << "the step sweep should reach past some method's domain";
+  for (const char* f : {"step-size-energy.png", "step-size-orthogonality.png", "tiny-steps-energy.png",
+                        "fast-spin-energy.png"}) {
+    EXPECT_EQ(read_text(res / f).substr(1, 3), "PNG") << f;
+  }
+  const std::string table = read_text(res / "extremes-table.md");
+  EXPECT_NE(table.find("coordinate singularity"), std::string::npos);
+}
+
+TEST(SuiteEndToEnd, ACaseThatDoesNotEndAsExpectedMakesTheExitStatusTwo) {
+  // The pendulum's rotation update fails at h = 0.125 (see CliSimulate): the default suite
+  // expects every run to complete.
+  TempDir dir;
+  write_text(dir.scenes() / "ok.toml", edited_scene("pendulum", "t_final = 20.0", "t_final = 0.1"));
+  std::string bad = edited_scene("pendulum", "h = 1e-3", "h = 0.125");
+  write_text(dir.scenes() / "bad.toml", bad);
+  const CliResult r =
+      run_testbed(dir, {"--scenes-dir", dir.scenes().string(), "suite", "default", "--out", "res", "--no-plots"});
+  EXPECT_EQ(r.exit_code, 2);
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("2 of 4 cases did not end as expected (bad-symmetric, bad-printed"), std::string::npos) << r.err;
+  const auto rows = experiments::read_summary_csv(dir.work() / "res" / "summary.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[0].text("status"), "rotation update failed");
+  EXPECT_EQ(rows[0].text("as_expected"), "false");
+  EXPECT_EQ(rows[2].text("as_expected"), "true");
+}
+
+// --- composed LGVIs as methods -----------------------------------------------------------------
+
+TEST(SuiteMethods, ComposedLgvisRunFromSimulateAndConvergeAtTheirOrder) {
+  // Free body over 1 s: the error against the order-6 run at h/4 falls by ~2^p when h halves.
+  TempDir dir;
+  auto final_row = [&](const std::string& method, const std::string& h) {
+    const std::string file = method + "-" + h + ".csv";
+    const CliResult r =
+        run_testbed(dir, {"simulate", "free-body", "--method", method, "--h", h, "--t-final", "1", "--out", file});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const CsvParts csv = read_csv(dir.work() / file);
+    if (method != "lgvi") {
+      EXPECT_EQ(csv.meta("composition"), method.substr(5));
+    }
+    return csv.rows.back();
+  };
+  const std::vector<double> ref = final_row("lgvi-kahan-li6", "0.003125");
+  for (const auto& [method, order] : std::vector<std::pair<std::string, int>>{
+           {"lgvi", 2}, {"lgvi-yoshida4", 4}, {"lgvi-suzuki4", 4}, {"lgvi-yoshida6", 6}}) {
+    auto error = [&](const std::string& h) {
+      const std::vector<double> row = final_row(method, h);
+      double e = 0.0;
+      for (std::size_t j = 1; j <= 12; ++j) e = std::max(e, std::abs(row[j] - ref[j]));  // R, Omega
+      return e;
+    };
+    const double ratio = error("0.05") / error("0.025");
+    // Asymptotic ratio 2^p; allow a factor 1.5 either way for the pre-asymptotic range.
+    EXPECT_GT(ratio, std::pow(2.0, order) / 1.5) << method;
+    EXPECT_LT(ratio, std::pow(2.0, order) * 1.5) << method;
+  }
+}
+
+}  // namespace
+}  // namespace lgvi::test
