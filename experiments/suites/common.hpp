@@ -84,8 +84,8 @@ Suite orthogonality_suite(const SuiteParams& params);
 Suite momentum_suite(const SuiteParams& params);
 Suite work_precision_suite(const SuiteParams& params);
 Suite extremes_suite(const SuiteParams& params);
-/// Every integrator suite above except "default", cases prefixed "<suite>/" (one subdirectory
-/// per suite), each rendered by its own renderer.
+/// Every suite above, cases prefixed "<suite>/" (one subdirectory per suite), each rendered by
+/// its own renderer.
 Suite all_suite(const SuiteParams& params);
 
 }  // namespace lgvi::experiments::suites

@@ -85,7 +85,7 @@ Suite extremes_suite(const SuiteParams& params) {
     spec.scene = kScene;
     spec.overrides.h = 1e-3;
     spec.overrides.t_final = quick ? 1.0 : 20.0;
-    spec.overrides.output_every = quick ? 1 : 20;
+    spec.overrides.output_every = quick ? 2 : 40;
     spec.edit = set_omega(100.0 * omega0.normalized(), "Omega0 norm 100 rad/s");
     for (const MethodSpec& m : long_run_methods(quick)) add("fast-spin", "w100", spec, m, lgvi_must_complete(m));
   }
@@ -114,7 +114,7 @@ Suite extremes_suite(const SuiteParams& params) {
       spec.scene = kScene;
       spec.overrides.h = 0.01;
       spec.overrides.t_final = quick ? 10.0 : 100.0;
-      spec.overrides.output_every = quick ? 1 : 10;
+      spec.overrides.output_every = 10;
       spec.edit = set_inertia_and_omega(v.J, Vec3(1.0, 1.0, 1.0), v.description + " with Omega0 = (1 1 1) rad/s");
       for (const MethodSpec& m : methods) add("inertia", v.id, spec, m, Expectation::Either);
     }
@@ -127,7 +127,7 @@ Suite extremes_suite(const SuiteParams& params) {
     spec.scene = kScene;
     spec.overrides.h = h;
     spec.overrides.t_final = static_cast<double>(steps) * h;
-    spec.overrides.output_every = static_cast<std::int64_t>(steps / 1000);
+    spec.overrides.output_every = static_cast<std::int64_t>(steps / 500);
     std::vector<MethodSpec> methods = {{"lgvi"},
                                        {"lgvi-yoshida4"},
                                        {"odeint-rk4", "quaternion", std::nullopt},
