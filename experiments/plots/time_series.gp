@@ -37,6 +37,7 @@ set logscale y
 set format y "10^{%L}"
 if (logx > 0) { set logscale x; set format x "10^{%L}" }
 set grid xtics ytics
+set autoscale xfix
 set key outside right top vertical noenhanced font ",9"
 
 positive(x) = (x > 0 ? x : NaN)

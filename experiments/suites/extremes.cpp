@@ -177,7 +177,7 @@ Suite extremes_suite(const SuiteParams& params) {
       } else if (group == "tiny-steps" || group == "fast-spin") {
         files.push_back(plot_time_series(ctx, group + "-energy.png",
                                          "free body, " + group + ": energy error, " + members.front()->text("variant") +
-                                             " h = " + members.front()->text("h"),
+                                             ", h = " + fmt(members.front()->number("h").value_or(0.0)),
                                          "|E - E_0| [J]", "energy_error", true, members));
       }
     }

@@ -41,8 +41,8 @@ void add_long_runs(Suite& s, const SuiteParams& params, const std::vector<LongRu
 
 std::string steps_text(const std::vector<const SummaryRow*>& rows) {
   const SummaryRow& r = *rows.front();
-  return r.text("steps_requested") + " steps of h = " + r.text("h") + " (adaptive methods: rtol = atol = 1e-6, " +
-         "sampled at the same times)";
+  return r.text("steps_requested") + " steps of h = " + fmt(r.number("h").value_or(0.0)) +
+         " (adaptive: rtol = atol = 1e-6)";
 }
 
 }  // namespace
