@@ -8,6 +8,10 @@
 // headers state:
 //   free body, 3D pendulum (any AttitudeSystem):  J Omega' = J Omega x Omega + M(R) + tau(R, u)
 //   dumbbell:  J Omega' = J Omega x Omega + M(R, x) + u^m,   m v' = f(R, x) + u^f,   x' = v.
+//   cart-pendulum (momentum form, w = (Pi, p) of eq. 37):
+//              [Omega; q'] = A(R)^{-1} w,  Pi' = Pi x Omega + M(R) + X_c,  p' = u
+//   connected bodies (momentum form, w = (Pi1, Pi2) of eq. 47):
+//              [Omega1; Omega2] = A(R1, R2)^{-1} w,  Pi_i' = Pi_i x Omega_i + X_i +- R_i^T u
 //
 // A mechanics type M (checked by the Mechanics concept) provides
 //   bodies, positions, velocities          sizes N, NX, NW
@@ -28,6 +32,8 @@
 
 #include "lgvi/lgvi.hpp"
 #include "lgvi/so3.hpp"
+#include "lgvi/systems/cart_pendulum.hpp"
+#include "lgvi/systems/connected_bodies.hpp"
 #include "lgvi/systems/dumbbell.hpp"
 #include "lgvi/types.hpp"
 
@@ -174,5 +180,110 @@ class DumbbellMechanics {
   const DumbbellSpacecraft& system_;
   std::function<Control(double)> control_;
 };
+
+/// The 3D pendulum on a cart, SO(3) x R^2, in momentum form w = (Pi, p): the mass matrix of
+/// eq. 37 is factored (Cholesky, CartPendulum::velocities) at every evaluation of the rates and
+/// of the acceleration, and the rates of the momenta are CartPendulum::momentum_rate:
+///     [Omega; q'] = A(R)^{-1} [Pi; p],   Pi' = Pi x Omega + M(R) + m (Omega x d) x R^T E q',   p' = u(t).
+/// Why momenta: they are the LGVI's state too, p is constant without control (p' = 0 exactly,
+/// so every solver keeps it to round-off), and no derivative of A(R) is needed. Off SO(3) (the
+/// quaternion and matrix models) the same formulas are evaluated with R as it is.
+class CartPendulumMechanics {
+ public:
+  static constexpr int bodies = 1;
+  static constexpr int positions = 2;
+  static constexpr int velocities = 5;
+  using System = CartPendulum;
+  using Control = CartPendulum::Control;
+  using Config = Configuration<1, 2>;
+  using Rate = Rates<1, 2>;
+  using Velocity = Vector<5>;
+
+  explicit CartPendulumMechanics(const CartPendulum& system, std::function<Control(double)> control = {})
+      : system_(system), control_(std::move(control)) {}
+
+  void rates(const Config& c, const Velocity& w, Rate& r) const {
+    system_.velocities(c.R[0], w.head<3>(), w.tail<2>(), r.Omega[0], r.x_dot);
+  }
+
+  Velocity acceleration(double t, const Config& c, const Velocity& w) const {
+    Rate r;
+    rates(c, w, r);
+    const Control u = control_ ? control_(t) : Control::Zero();
+    Vec3 Pi_dot;
+    Vec2 p_dot;
+    system_.momentum_rate(c.R[0], r.Omega[0], r.x_dot, w.head<3>(), u, Pi_dot, p_dot);
+    Velocity a;
+    a << Pi_dot, p_dot;
+    return a;
+  }
+
+  Velocity velocity_state(const Config& c, const std::array<Vec3, 1>& Omega, const Vector<2>& x_dot) const {
+    Vec3 Pi;
+    Vec2 p;
+    system_.momenta(c.R[0], Omega[0], x_dot, Pi, p);
+    Velocity w;
+    w << Pi, p;
+    return w;
+  }
+  bool time_dependent() const { return static_cast<bool>(control_); }
+  const CartPendulum& system() const { return system_; }
+
+ private:
+  const CartPendulum& system_;
+  std::function<Control(double)> control_;
+};
+
+/// Two bodies joined by a ball joint, SO(3) x SO(3), in momentum form w = (Pi1, Pi2): the mass
+/// matrix of eq. 47 (blocks J_i + alpha_i m_i hat(d_i)^2, coupling mu hat(d1) R1^T R2 hat(d2))
+/// is factored (Cholesky, ConnectedBodies::velocities) at every evaluation, and
+///     Pi1' = Pi1 x Omega1 + X1 + R1^T u(t),   Pi2' = Pi2 x Omega2 + X2 - R2^T u(t)
+/// (ConnectedBodies::momentum_rate, X_i its coupling moments).
+class ConnectedBodiesMechanics {
+ public:
+  static constexpr int bodies = 2;
+  static constexpr int positions = 0;
+  static constexpr int velocities = 6;
+  using System = ConnectedBodies;
+  using Control = ConnectedBodies::Control;
+  using Config = Configuration<2, 0>;
+  using Rate = Rates<2, 0>;
+  using Velocity = Vector<6>;
+
+  explicit ConnectedBodiesMechanics(const ConnectedBodies& system, std::function<Control(double)> control = {})
+      : system_(system), control_(std::move(control)) {}
+
+  void rates(const Config& c, const Velocity& w, Rate& r) const {
+    system_.velocities(c.R[0], c.R[1], w.head<3>(), w.tail<3>(), r.Omega[0], r.Omega[1]);
+  }
+
+  Velocity acceleration(double t, const Config& c, const Velocity& w) const {
+    Rate r;
+    rates(c, w, r);
+    const Control u = control_ ? control_(t) : Control::Zero();
+    Vec3 Pi1_dot, Pi2_dot;
+    system_.momentum_rate(c.R[0], c.R[1], r.Omega[0], r.Omega[1], w.head<3>(), w.tail<3>(), u, Pi1_dot, Pi2_dot);
+    Velocity a;
+    a << Pi1_dot, Pi2_dot;
+    return a;
+  }
+
+  Velocity velocity_state(const Config& c, const std::array<Vec3, 2>& Omega, const Vector<0>& /*x_dot*/) const {
+    Vec3 Pi1, Pi2;
+    system_.momenta(c.R[0], c.R[1], Omega[0], Omega[1], Pi1, Pi2);
+    Velocity w;
+    w << Pi1, Pi2;
+    return w;
+  }
+  bool time_dependent() const { return static_cast<bool>(control_); }
+  const ConnectedBodies& system() const { return system_; }
+
+ private:
+  const ConnectedBodies& system_;
+  std::function<Control(double)> control_;
+};
+
+static_assert(Mechanics<CartPendulumMechanics>);
+static_assert(Mechanics<ConnectedBodiesMechanics>);
 
 }  // namespace lgvi::baselines

@@ -3,6 +3,7 @@
 // (t_k = k h for k = 0, output_every, 2 output_every, ..., steps), so that the CSV rows line up
 // with the LGVI's. Fixed-step solvers step with the scene's h; adaptive ones with rtol/atol.
 // Controls are the scene's functions of time, evaluated wherever the solver asks.
+#include <algorithm>
 #include <cstdint>
 #include <type_traits>
 #include <variant>
@@ -37,7 +38,10 @@ class BaselineMethod final : public Method {
       f.push_back({"atol", *settings_.atol});
     }
     if (info_.name.rfind("cvode-", 0) == 0 || info_.name == "gsl-rk4imp" || info_.name == "gsl-msbdf") {
-      f.push_back({"jacobian", std::string("analytic kinematics, central differences of the potential terms")});
+      f.push_back({"jacobian", is_single_body(scene.model)
+                                   ? std::string("analytic kinematics, central differences of the potential terms")
+                                   : std::string("analytic chart kinematics, central differences of the momentum-form "
+                                                 "rates and accelerations")});
     }
     if (info_.name == "gsl-rk4imp") f.push_back({"newton_tolerance", settings_.newton_tolerance});
     f.push_back({"sampling", std::string("output grid (every output_every-th step)")});
@@ -55,11 +59,17 @@ class BaselineMethod final : public Method {
  private:
   template <class SceneModel>
   Stats run_system(const Scene& scene, const SceneModel& m, Recorder& recorder) const {
-    if constexpr (std::is_same_v<SceneModel, CartPendulumModel> || std::is_same_v<SceneModel, ConnectedBodiesModel>) {
-      (void)m;
-      (void)recorder;
-      throw InvalidInput("method", std::string("no continuous-time model of the ") + SceneModel::name +
-                                       " in baselines/ yet (scene '" + scene.name + "'): use --method lgvi");
+    if constexpr (std::is_same_v<SceneModel, CartPendulumModel>) {
+      auto control = std::function<CartPendulum::Control(double)>{};
+      if (m.control) control = [&m](double t) -> Vec2 { return (*m.control)(t).template head<2>(); };
+      const baselines::CartPendulumMechanics mech(m.system, control);
+      return run_chart(scene, mech, {m.initial.R}, {m.initial.Omega}, m.initial.q, m.initial.q_dot, recorder);
+    } else if constexpr (std::is_same_v<SceneModel, ConnectedBodiesModel>) {
+      auto control = std::function<Vec3(double)>{};
+      if (m.control) control = [&m](double t) -> Vec3 { return (*m.control)(t); };
+      const baselines::ConnectedBodiesMechanics mech(m.system, control);
+      return run_chart(scene, mech, {m.initial.R1, m.initial.R2}, {m.initial.Omega1, m.initial.Omega2},
+                       baselines::Vector<0>(), baselines::Vector<0>(), recorder);
     } else if constexpr (std::is_same_v<SceneModel, DumbbellModel>) {
       auto control = std::function<DumbbellSpacecraft::Control(double)>{};
       if (m.force_control || m.moment_control) {
@@ -88,7 +98,8 @@ class BaselineMethod final : public Method {
   }
 
   template <class Mech>
-  Stats run_chart(const Scene& scene, const Mech& mech, const std::array<Mat3, 1>& R, const std::array<Vec3, 1>& Omega,
+  Stats run_chart(const Scene& scene, const Mech& mech, const std::array<Mat3, Mech::bodies>& R,
+                  const std::array<Vec3, Mech::bodies>& Omega,
                   const baselines::Vector<Mech::positions>& x, const baselines::Vector<Mech::positions>& v,
                   Recorder& recorder) const {
     switch (model_) {
@@ -104,8 +115,8 @@ class BaselineMethod final : public Method {
     throw InvalidInput("model", "unknown model");
   }
 
-  template <class Ode, int NX>
-  Stats run_model(const Scene& scene, const Ode& ode, const std::array<Mat3, 1>& R, const std::array<Vec3, 1>& Omega,
+  template <class Ode, std::size_t N, int NX>
+  Stats run_model(const Scene& scene, const Ode& ode, const std::array<Mat3, N>& R, const std::array<Vec3, N>& Omega,
                   const baselines::Vector<NX>& x, const baselines::Vector<NX>& v, Recorder& recorder) const {
     const Horizon& hz = scene.horizon;
     const auto y0 = ode.initial_state(R, Omega, x, v);
@@ -125,11 +136,19 @@ class BaselineMethod final : public Method {
       sample.t = t;
       sample.R = d.config.R[0];
       sample.Omega = d.rates.Omega[0];
-      if constexpr (NX == 3) {
+      if constexpr (N == 2) {  // connected bodies
+        sample.R2 = d.config.R[1];
+        sample.Omega2 = d.rates.Omega[1];
+      }
+      if constexpr (NX == 3) {  // dumbbell
         sample.x = d.config.x;
         sample.v = d.rates.x_dot;
+      } else if constexpr (NX == 2) {  // cart (x, y, 0) and (x', y', 0), as the LGVI records it
+        sample.x << d.config.x, 0.0;
+        sample.v << d.rates.x_dot, 0.0;
       }
-      sample.quaternion_norm_error = d.quaternion_norm_error[0];
+      // The worse of the bodies' quaternions.
+      sample.quaternion_norm_error = *std::max_element(d.quaternion_norm_error.begin(), d.quaternion_norm_error.end());
       sample.newton_iterations = 0;
       recorder.record(ks[i], sample);
       return true;

@@ -13,6 +13,11 @@
 //     e3^T R Pi + (q x p)_3 = e3^T R Pi + x p_y - y p_x
 // is conserved without control (the pendulum's and the cart's parts), and so is p (no force acts
 // on the cart's plane motion but the control).
+//
+// Continuous equations (baselines/, see momentum_rate): with R -> R exp(hat(eta)) and
+// delta Omega = eta' + Omega x eta, Hamilton's principle gives Pi' = Pi x Omega + X with
+// delta_R L = eta . X, X = M(R) + m (Omega x d) x R^T E q' (gravity and the coupling term), and
+// p' = dL/dq + u = u. Along them dE/dt = u . q' and d/dt (vertical momentum) = x u_y - y u_x.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -54,6 +59,27 @@ struct CartPendulum {
   void velocities(const Mat3& R, const Vec3& Pi, const Vec2& p, Vec3& Omega, Vec2& q_dot) const;
 
   double energy(const Mat3& R, const Vec3& Omega, const Vec2& q_dot) const;
+  /// The Lagrangian L = 1/2 [Omega; q']^T A(R) [Omega; q'] - U(R), A of eq. 37.
+  double lagrangian(const Mat3& R, const Vec3& Omega, const Vec2& q_dot) const {
+    return energy(R, Omega, q_dot) - 2.0 * potential(R);
+  }
+
+  /// Moment of the coupling term m (E q') . (R hat(Omega) d) on the pendulum, body frame:
+  /// X_c = m (Omega x d) x R^T E q', the left-trivialized R-derivative of that term
+  /// (R -> R exp(hat(eta)) changes it by eta . X_c).
+  Vec3 coupling_moment(const Mat3& R, const Vec3& Omega, const Vec2& q_dot) const {
+    return mass * Omega.cross(d).cross(R.transpose().leftCols<2>() * q_dot);
+  }
+  /// The continuous Lagrange-Poincare equations of L with the cart force u (the continuous
+  /// limit of eqs. 30-36):
+  ///     Pi' = Pi x Omega + M(R) + X_c(R, Omega, q'),     p' = u,
+  /// (Pi, p) the momenta of eq. 37 at (R, Omega, q'); M = moment (eq. 13). L does not depend
+  /// on q, so only the control changes p. The caller supplies consistent (Omega, q') and (Pi, p).
+  void momentum_rate(const Mat3& R, const Vec3& Omega, const Vec2& q_dot, const Vec3& Pi,
+                     const Control& u, Vec3& Pi_dot, Vec2& p_dot) const {
+    Pi_dot = Pi.cross(Omega) + moment(R) + coupling_moment(R, Omega, q_dot);
+    p_dot = u;
+  }
   /// The momentum map of rotations about the vertical: e3^T R Pi + x p_y - y p_x.
   double vertical_momentum(const Mat3& R, const Vec2& q, const Vec3& Pi, const Vec2& p) const {
     return R.row(2).dot(Pi) + q.x() * p.y() - q.y() * p.x();

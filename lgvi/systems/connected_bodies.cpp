@@ -65,4 +65,21 @@ double ConnectedBodies::energy(const Mat3& R1, const Mat3& R2, const Vec3& Omega
   return 0.5 * v.dot(mass_matrix(R1, R2) * v);
 }
 
+void ConnectedBodies::coupling_moments(const Mat3& R1, const Mat3& R2, const Vec3& Omega1, const Vec3& Omega2,
+                                       Vec3& X1, Vec3& X2) const {
+  const Vec3 w1 = Omega1.cross(d1), w2 = Omega2.cross(d2);  // body-frame velocities of the mass centres
+  const Vec3 a1 = R1 * w1, a2 = R2 * w2;
+  X1 = -mu * w1.cross(R1.transpose() * a2);
+  X2 = -mu * w2.cross(R2.transpose() * a1);
+}
+
+void ConnectedBodies::momentum_rate(const Mat3& R1, const Mat3& R2, const Vec3& Omega1, const Vec3& Omega2,
+                                    const Vec3& Pi1, const Vec3& Pi2, const Control& u, Vec3& Pi1_dot,
+                                    Vec3& Pi2_dot) const {
+  Vec3 X1, X2;
+  coupling_moments(R1, R2, Omega1, Omega2, X1, X2);
+  Pi1_dot = Pi1.cross(Omega1) + X1 + R1.transpose() * u;
+  Pi2_dot = Pi2.cross(Omega2) + X2 - R2.transpose() * u;
+}
+
 }  // namespace lgvi

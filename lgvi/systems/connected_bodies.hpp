@@ -15,6 +15,11 @@
 //
 // Control: a moment u (inertial frame) on body 1 and -u on body 2 at the joint: internal, so
 // the total angular momentum R1 Pi1 + R2 Pi2 is conserved with or without it.
+//
+// Continuous equations (baselines/, see momentum_rate): Hamilton's principle with
+// R_i -> R_i exp(hat(eta_i)), delta Omega_i = eta_i' + Omega_i x eta_i gives
+// Pi_i' = Pi_i x Omega_i + X_i + (body-frame control moment), X_i the coupling term's moments.
+// Along them dE/dt = u . (R1 Omega1 - R2 Omega2) (the power of the joint moment).
 #pragma once
 
 #include "lgvi/inertia.hpp"
@@ -47,6 +52,23 @@ struct ConnectedBodies {
   void momenta(const Mat3& R1, const Mat3& R2, const Vec3& Omega1, const Vec3& Omega2, Vec3& Pi1,
                Vec3& Pi2) const;
   double energy(const Mat3& R1, const Mat3& R2, const Vec3& Omega1, const Vec3& Omega2) const;
+  /// No potential: the Lagrangian is the kinetic energy.
+  double lagrangian(const Mat3& R1, const Mat3& R2, const Vec3& Omega1, const Vec3& Omega2) const {
+    return energy(R1, R2, Omega1, Omega2);
+  }
+
+  /// Moments of the coupling term -mu a1 . a2, a_i = R_i (Omega_i x d_i), on each body (body
+  /// frames), its left-trivialized R_i-derivatives (R_i -> R_i exp(hat(eta_i)) changes it by
+  /// eta_i . X_i):  X1 = -mu (Omega1 x d1) x R1^T a2,  X2 = -mu (Omega2 x d2) x R2^T a1.
+  /// R1 X1 + R2 X2 = -mu (a1 x a2 + a2 x a1) = 0: the coupling exchanges angular momentum only.
+  void coupling_moments(const Mat3& R1, const Mat3& R2, const Vec3& Omega1, const Vec3& Omega2, Vec3& X1,
+                        Vec3& X2) const;
+  /// The continuous Lagrange-Poincare equations of L with the joint moment u (the continuous
+  /// limit of eqs. 40-45):
+  ///     Pi1' = Pi1 x Omega1 + X1 + R1^T u,     Pi2' = Pi2 x Omega2 + X2 - R2^T u,
+  /// (Pi1, Pi2) the momenta of eq. 47 at (R1, R2, Omega1, Omega2), supplied consistent.
+  void momentum_rate(const Mat3& R1, const Mat3& R2, const Vec3& Omega1, const Vec3& Omega2, const Vec3& Pi1,
+                     const Vec3& Pi2, const Control& u, Vec3& Pi1_dot, Vec3& Pi2_dot) const;
   /// Total angular momentum about the fixed mass centre, inertial frame: R1 Pi1 + R2 Pi2.
   static Vec3 total_angular_momentum(const Mat3& R1, const Mat3& R2, const Vec3& Pi1,
                                      const Vec3& Pi2) {

@@ -8,7 +8,9 @@
 #include <numbers>
 
 #include "baselines/coordinates.hpp"
+#include "baselines/solver.hpp"
 #include "experiments/cli_support.hpp"
+#include "multibody_cases.hpp"
 
 namespace lgvi::test {
 namespace {
@@ -121,6 +123,79 @@ TEST(CliBaselines, SolverFailureExitsTwo) {
   EXPECT_NE(r.err.find("solver failed at t = 0 after 0 steps: cvode-bdf: CV_TOO_MUCH_ACC"), std::string::npos) << r.err;
   const CsvParts csv = read_csv(dir.work() / "f.csv");
   EXPECT_EQ(csv.rows.size(), 1u);
+}
+
+/// Euclidean norm of the difference of the state columns (t excluded, up to `energy`) of a row.
+double state_row_distance(const CsvParts& a, std::size_t ka, const CsvParts& b, std::size_t kb) {
+  double d2 = 0.0;
+  for (std::size_t c = 1; c < b.column("energy"); ++c) {
+    const double d = a.rows[ka][a.column(b.header[c])] - b.rows[kb][c];
+    d2 += d * d;
+  }
+  return std::sqrt(d2);
+}
+
+TEST(CliBaselines, MultibodyScenesWriteTheLgviColumnsAndMotion) {
+  // Each multibody scene on a few solvers and models: the LGVI's columns (+ quaternion_norm_error),
+  // its grid, and its motion. The LGVI's own error at the scene's h is estimated from a run at h/2
+  // (Richardson, second order: 4/3 |Y_h - Y_{h/2}|, multibody_cases.hpp); the baselines' errors
+  // are below kBaselineError (cvode-bdf at rtol 1e-10 over <= 1e3 steps: N r (1 + |y|) sqrt(n)
+  // < 1e-6; odeint-rk4: T w (h w)^4 < 1e-8 at the scenes' steps).
+  constexpr double kBaselineError = 1e-6;
+  struct Case {
+    std::string scene, t_final, h_half, every_half;
+    std::vector<std::pair<std::string, std::string>> runs;  // method, model
+  };
+  const std::vector<Case> cases = {
+      {"cart-pendulum", "0.5", "0.0005", "40",
+       {{"cvode-bdf", "quaternion"}, {"odeint-rk4", "quaternion-renormalized"}, {"gsl-rk8pd", "matrix"}}},
+      {"connected-bodies", "2", "0.005", "8",
+       {{"cvode-bdf", "quaternion"}, {"odeint-rk4", "euler"}, {"cvode-adams", "matrix"}}},
+  };
+  for (const Case& c : cases) {
+    TempDir dir;
+    const CliResult lgvi = run_testbed(dir, {"simulate", c.scene, "--t-final", c.t_final, "--out", "lgvi.csv"});
+    ASSERT_EQ(lgvi.exit_code, 0) << lgvi.err;
+    const CliResult half = run_testbed(dir, {"simulate", c.scene, "--t-final", c.t_final, "--h", c.h_half, "--every",
+                                             c.every_half, "--out", "half.csv"});
+    ASSERT_EQ(half.exit_code, 0) << half.err;
+    const CsvParts ref = read_csv(dir.work() / "lgvi.csv"), fine = read_csv(dir.work() / "half.csv");
+    ASSERT_EQ(ref.rows.size(), fine.rows.size());
+    for (const auto& [method, model] : c.runs) {
+      const std::string out = method + "-" + model + ".csv";
+      std::vector<std::string> args = {"simulate", c.scene, "--t-final", c.t_final, "--method", method,
+                                       "--model", model, "--out", out};
+      if (baselines::solver_info(method).step_control == baselines::StepControl::Adaptive) {
+        args.insert(args.end(), {"--rtol", "1e-10"});
+      }
+      const CliResult r = run_testbed(dir, args);
+      ASSERT_EQ(r.exit_code, 0) << c.scene << " " << method << " " << model << ": " << r.err;
+      EXPECT_EQ(r.out.rfind("completed ", 0), 0u) << r.out;
+      const CsvParts csv = read_csv(dir.work() / out);
+      EXPECT_EQ(csv.meta("model"), model);
+      std::vector<std::string> header = ref.header;
+      if (model.rfind("quaternion", 0) == 0) {
+        header.insert(header.begin() + static_cast<long>(ref.column("determinant_error")) + 1, "quaternion_norm_error");
+      }
+      EXPECT_EQ(csv.header, header);
+      ASSERT_EQ(csv.rows.size(), ref.rows.size());
+      double worst = 0.0;
+      for (std::size_t k = 0; k < csv.rows.size(); ++k) {
+        EXPECT_EQ(csv.rows[k][0], ref.rows[k][0]);
+        const double lgvi_error = 4.0 / 3.0 * state_row_distance(fine, k, ref, k);
+        const double d = state_row_distance(csv, k, ref, k);
+        worst = std::max(worst, d);
+        EXPECT_LE(d, kRichardsonSlack * lgvi_error + kBaselineError) << c.scene << " " << method << " t = " << ref.rows[k][0];
+      }
+      // The diagnostics: the same energy and momentum map at t = 0, small drifts after.
+      EXPECT_NEAR(csv.rows[0][csv.column("energy")], ref.rows[0][ref.column("energy")], 1e-12);
+      const std::string m = c.scene == "cart-pendulum" ? "vertical_momentum" : "angular_momentum1";
+      EXPECT_NEAR(csv.rows[0][csv.column(m)], ref.rows[0][ref.column(m)], 1e-12);
+      EXPECT_LT(csv.rows.back()[csv.column("momentum_error")], kBaselineError);
+      std::cout << "[ cli      ] " << c.scene << " " << method << "/" << model << ": max |baseline - lgvi| " << worst
+                << "\n";
+    }
+  }
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "baseline_cases.hpp"
+#include "model_checks.hpp"
 #include "lgvi/systems/dumbbell.hpp"
 
 namespace lgvi::test {
@@ -16,22 +17,6 @@ using baselines::CoordinateOde;
 using baselines::EulerChart;
 using baselines::MatrixChart;
 using baselines::QuaternionChart;
-
-/// A vector with independent entries uniform in [-1, 1] from the seeded generator.
-template <class Rng>
-Vec3 random_vector(Rng& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  return Vec3(u(rng), u(rng), u(rng));
-}
-
-/// A random attitude away from gimbal lock (|cos pitch| > 0.2) for the Euler chart.
-template <class Rng>
-Mat3 random_attitude(Rng& rng) {
-  for (;;) {
-    const Mat3 R = so3::random_rotation(rng);
-    if (std::abs(std::cos(EulerChart::from_rotation(R)(1))) > 0.2) return R;
-  }
-}
 
 template <class Chart>
 class ChartTest : public ::testing::Test {};
@@ -80,55 +65,6 @@ TEST(EulerChart, SequenceIsYawPitchRoll) {
   EXPECT_TRUE(EulerChart::singular(EulerChart::Coords(0.1, M_PI / 2, 0.2)));
   EXPECT_FALSE(EulerChart::singular(c));
   EXPECT_NEAR(EulerChart::kGimbalThreshold, std::sqrt(kEps), 1e-24);
-}
-
-// --- the full right-hand side and Jacobian ------------------------------------------------------
-
-/// Central-difference Jacobian of the ODE's right-hand side, steps scaled like the model's.
-template <class Ode>
-Eigen::MatrixXd fd_jacobian(const Ode& ode, double t, const typename Ode::State& y) {
-  const int n = ode.dimension();
-  Eigen::MatrixXd J(n, n);
-  typename Ode::State fp, fm;
-  for (int j = 0; j < n; ++j) {
-    const double a = kFdStep * std::max(1.0, std::abs(y(j)));
-    typename Ode::State yp = y, ym = y;
-    yp(j) += a;
-    ym(j) -= a;
-    EXPECT_EQ(ode.rhs(t, yp.data(), fp.data()), baselines::RhsStatus::Ok);
-    EXPECT_EQ(ode.rhs(t, ym.data(), fm.data()), baselines::RhsStatus::Ok);
-    J.col(j) = (fp - fm) / (2 * a);
-  }
-  return J;
-}
-
-/// Checks the analytic Jacobian at y (and at a state pushed off the constraint set, where the
-/// quaternion and matrix models wander) against central differences. The tolerance is
-/// kFdTolerance relative to the size of the Jacobian's entries (third derivatives of these
-/// polynomial/trigonometric right-hand sides are of the order of their first ones).
-template <class Ode>
-void expect_jacobian(const Ode& ode, double t, typename Ode::State y, const std::string& what) {
-  for (int pass = 0; pass < 2; ++pass) {
-    if (pass == 1) y.head(ode.dimension() - Ode::NW - Ode::NX) *= 1.01;  // off SO(3) / the unit sphere
-    typename Ode::Jacobian J;
-    ASSERT_EQ(ode.jacobian(t, y.data(), J.data()), baselines::RhsStatus::Ok);
-    const Eigen::MatrixXd fd = fd_jacobian(ode, t, y);
-    const double scale = std::max(1.0, J.cwiseAbs().maxCoeff());
-    const double err = (Eigen::MatrixXd(J) - fd).cwiseAbs().maxCoeff();
-    EXPECT_LT(err, kFdTolerance * scale) << what << (pass ? " (off the constraint set)" : "") << ": max |J - J_fd| = "
-                                         << err << ", scale " << scale;
-  }
-}
-
-/// d/dt E(y(t)) along the right-hand side, by a central difference along f (step kFdStep / |f|):
-/// zero for a first integral. Compared with kFdTolerance times max(1, |E|).
-template <class Ode, class Fn>
-double derivative_along_flow(const Ode& ode, const typename Ode::State& y, Fn&& quantity) {
-  typename Ode::State f;
-  EXPECT_EQ(ode.rhs(0.0, y.data(), f.data()), baselines::RhsStatus::Ok);
-  const double a = kFdStep / std::max(1.0, f.norm());
-  const typename Ode::State yp = y + a * f, ym = y - a * f;
-  return (quantity(ode.decode(yp.data())) - quantity(ode.decode(ym.data()))) / (2 * a);
 }
 
 template <class Chart>
