@@ -222,11 +222,12 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
 
 CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   CLI::App* cmd = app.add_subcommand(
-      "ocp", "Indirect discrete optimal control (paper sec. 3.1, 3.2): Newton-Armijo shooting on the initial "
-             "multiplier; writes the iteration history, the trajectory and a JSON summary");
-  cmd->add_option("SYSTEM", o.system, "dumbbell (orbit transfer, sec. 3.1) | pendulum (180 deg about the vertical, sec. 3.2)")
+      "ocp", "Discrete optimal control: indirect (sec. 3.1, 3.2; Newton-Armijo shooting on the initial multiplier) or direct (sec. 4.1, 4.2; spline knots by SLSQP); "
+             "writes the iteration history, the trajectory and a JSON summary");
+  cmd->add_option("SYSTEM", o.system, "dumbbell (orbit transfer, sec. 3.1) | pendulum (180 deg about the vertical, sec. 3.2) | "
+                                "cart-pendulum (sec. 4.1) | connected-bodies (sec. 4.2): the last two by the direct method")
       ->required()
-      ->check(CLI::IsMember({"dumbbell", "pendulum"}));
+      ->check(CLI::IsMember({"dumbbell", "pendulum", "cart-pendulum", "connected-bodies"}));
   cmd->add_option("--form", o.form, "LGVI form: printed (the paper's eqs.; default) | symmetric")->capture_default_str();
   cmd->add_option("--h", o.h, "Time step (the horizon must be a whole number of steps; default: pendulum 0.001, "
                               "dumbbell pi/2000)");
@@ -236,15 +237,28 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   cmd->add_option("--merit", o.merit, "Line-search merit: velocity (default) | momentum")->capture_default_str();
   cmd->add_option("--guess", o.guess, "Initial multiplier lambda_0, comma-separated (6 pendulum, 12 dumbbell values)")
       ->delimiter(',');
-  cmd->add_option("--max-iterations", o.max_iterations, "Outer Newton iterations")->capture_default_str();
+  cmd->add_option("--max-iterations", o.max_iterations,
+                  "Indirect: outer Newton iterations (default 300); direct: SLSQP evaluations per start (default 3000)");
   cmd->add_option("--t-final", o.t_final, "Horizon (default: the paper's, pendulum 1, dumbbell pi/2)");
   cmd->add_option("--sphere-radius", o.sphere_radius,
                   "Dumbbell: radius of the two spheres (sets the rod-axis inertia; default 0.05, README)");
   cmd->add_option("--out", o.out, "Output directory")->capture_default_str();
+  cmd->add_option("--knots", o.knots, "Direct method: spline knots per control component")->capture_default_str();
+  cmd->add_option("--spline", o.spline, "Direct method: spline end condition, not-a-knot | natural")
+      ->capture_default_str();
+  cmd->add_option("--gradients", o.gradients, "Direct method: exact | finite-difference")->capture_default_str();
+  cmd->add_option("--tolerance", o.tolerance, "Direct method: bound on the terminal violation")->capture_default_str();
+  cmd->add_option("--starts", o.starts,
+                  "Direct method: SLSQP starts (the default guess, then seeded random knots); default: "
+                  "cart-pendulum 1, connected-bodies 8");
+  cmd->add_option("--seed", o.seed, "Direct method: seed of the random starts")->capture_default_str();
   return cmd;
 }
 
 int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std::ostream& out, std::ostream& err) {
+  if (cmd.system == "cart-pendulum" || cmd.system == "connected-bodies") {
+    return run_ocp_direct_command(cmd, command_line, out, err);
+  }
   ocp::ShootingOptions options;
   try {
     options.form = parse_lgvi_form(cmd.form);
@@ -260,7 +274,7 @@ int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std:
   if (cmd.steps < 0) throw InvalidInput("--steps", "must be >= 1");
   if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 0");
   options.decomposition = !cmd.no_decomposition;
-  options.max_iterations = cmd.max_iterations;
+  options.max_iterations = cmd.max_iterations > 0 ? cmd.max_iterations : 300;
   const bool pendulum = cmd.system == "pendulum";
   ocp::TransferProblem problem =
       pendulum ? ocp::TransferProblem::pendulum_paper() : ocp::TransferProblem::dumbbell_paper();

@@ -1,5 +1,6 @@
 // `lgvi-testbed ocp dumbbell|pendulum`: the indirect discrete optimal control of sections 3.1
-// and 3.2 (lgvi/ocp/indirect.hpp). Writes, atomically, into --out DIR:
+// and 3.2 (lgvi/ocp/indirect.hpp); `ocp cart-pendulum|connected-bodies`: the direct method of
+// sections 4.1 and 4.2 (lgvi/ocp/direct.hpp). Writes, atomically, into --out DIR:
 //   ocp-SYSTEM-history.csv     one row per outer Newton-Armijo iteration
 //   ocp-SYSTEM-trajectory.csv  t, state, controls, multipliers at every node
 //   ocp-SYSTEM-summary.json    cost, violation, iterations, condition numbers, wall time, status
@@ -17,17 +18,24 @@ namespace lgvi::experiments {
 
 /// The options of the `ocp` subcommand, filled by CLI11.
 struct OcpCommand {
-  std::string system;       ///< "dumbbell" or "pendulum"
+  std::string system;       ///< "dumbbell", "pendulum", "cart-pendulum" or "connected-bodies"
   std::string form = "printed";
   double h = 0.0;           ///< 0: the default step (see ocp_command.cpp)
   long long steps = 0;      ///< alternative to h: t_final / steps
   bool no_decomposition = false;
   std::string merit = "velocity";
   std::vector<double> guess;  ///< lambda_0; empty: the documented default
-  int max_iterations = 300;
+  int max_iterations = 0;      ///< 0: the method's default (indirect 300, direct 3000)
   double t_final = 0.0;        ///< 0: the paper's horizon
   double sphere_radius = 0.0;  ///< dumbbell only; 0: DumbbellSpacecraft::paper()'s 0.05
   std::string out = "results/ocp";
+  // Direct method (cart-pendulum, connected-bodies; experiments/ocp_direct_command.cpp).
+  int knots = 7;                        ///< per control component
+  std::string spline = "not-a-knot";    ///< or "natural"
+  std::string gradients = "exact";      ///< or "finite-difference"
+  double tolerance = 1e-10;             ///< on the terminal violation
+  int starts = 0;                       ///< multistart; 0: the system's default (README)
+  long long seed = 1;                   ///< of the random starts
 };
 
 /// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive
@@ -39,5 +47,10 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& options);
 /// (one "error:" line on `err`). Throws OutputError when files cannot be written.
 int run_ocp_command(const OcpCommand& options, const std::string& command_line, std::ostream& out,
                     std::ostream& err);
+
+/// The direct method's part of run_ocp_command (systems cart-pendulum and connected-bodies): SLSQP
+/// on spline knots. Same files, exit statuses and errors.
+int run_ocp_direct_command(const OcpCommand& options, const std::string& command_line, std::ostream& out,
+                           std::ostream& err);
 
 }  // namespace lgvi::experiments

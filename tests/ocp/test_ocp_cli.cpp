@@ -65,3 +65,45 @@ TEST(OcpCli, BadInputIsOneErrorLineAndNoFiles) {
 
 }  // namespace
 }  // namespace lgvi::test
+
+namespace lgvi::test {
+namespace {
+
+TEST(OcpCli, CartPendulumDirectWritesHistoryTrajectoryAndSummary) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"ocp", "cart-pendulum", "--out", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fs::path out = dir.work() / "out";
+  const std::string json = read_text(out / "ocp-cart-pendulum-summary.json");
+  for (const char* key : {"\"status\": \"converged\"", "\"spline\": \"not-a-knot\"", "\"gradients\": \"exact\"",
+                          "\"iterations\"", "\"gradient_evaluations\"", "\"wall_seconds\"", "\"knot_values\"",
+                          "\"violation\"", "\"paper_cost\": 297.43"}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key << " not in " << json;
+  }
+  EXPECT_NE(read_text(out / "ocp-cart-pendulum-history.csv").find("start,evaluation,iteration,gradient,cost,violation"),
+            std::string::npos);
+  std::size_t data = 0, header = 0;
+  for (const std::string& line : lines_of(read_text(out / "ocp-cart-pendulum-trajectory.csv"))) {
+    if (line.rfind("t,R11,", 0) == 0) ++header;
+    else if (!line.empty() && line[0] != '#') ++data;
+  }
+  EXPECT_EQ(header, 1u);
+  EXPECT_EQ(data, 201u);  // nodes 0..200
+}
+
+TEST(OcpCli, DirectBadInputIsOneErrorLineAndNoFiles) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"ocp", "cart-pendulum", "--spline", "clamped", "--out", "."},
+        std::vector<std::string>{"ocp", "connected-bodies", "--gradients", "adjoint", "--out", "."},
+        std::vector<std::string>{"ocp", "cart-pendulum", "--knots", "2", "--out", "."},
+        std::vector<std::string>{"ocp", "cart-pendulum", "--guess", "1,2", "--out", "."}}) {
+    TempDir dir;
+    const CliResult r = run_testbed(dir, args);
+    EXPECT_EQ(r.exit_code, 1) << args[2] << ": " << r.err;
+    EXPECT_EQ(r.err_lines().size(), 1u) << r.err;
+    EXPECT_TRUE(dir.work_entries().empty());
+  }
+}
+
+}  // namespace
+}  // namespace lgvi::test

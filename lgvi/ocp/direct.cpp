@@ -1,0 +1,798 @@
+// Direct discrete optimal control: linearized multibody steps, forward sensitivities, SLSQP.
+// The derivations of every block below are in lgvi/ocp/README.md ("Direct method").
+#include "lgvi/ocp/direct.hpp"
+
+#include <nlopt.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <memory>
+#include <random>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+namespace lgvi::ocp {
+
+using so3::hat;
+
+// --- problems ----------------------------------------------------------------------------------
+
+CartPendulumTransfer CartPendulumTransfer::paper() {
+  CartPendulumTransfer p;
+  p.Rf = Vec3(-1.0, -1.0, 1.0).asDiagonal();
+  p.t_final = 2.0;
+  return p;
+}
+
+ConnectedBodiesTransfer ConnectedBodiesTransfer::paper() {
+  ConnectedBodiesTransfer p;
+  p.R1_f = Vec3(1.0, -1.0, -1.0).asDiagonal();
+  p.R2_f = p.R1_f;
+  p.t_final = 4.0;
+  return p;
+}
+
+// --- cart-pendulum -----------------------------------------------------------------------------
+
+void CartPendulumDirectModel::step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
+                                             const VecU& u_k, const VecU& /*u_k1*/, MatW& A, MatWU& B0,
+                                             MatWU& B1) {
+  const CartPendulum& S = lgvi.system();
+  const auto [c0, c1] = impulse_weights(lgvi.form(), h);
+  const double m = S.mass, total = S.cart_mass + S.mass, kappa = m * m / total, mg = m * S.gravity;
+  const Mat3& Jd = S.inertia.Jd;
+  const Mat3 D = hat(S.d);
+  const Mat3 F = in.R.transpose() * out.R;
+  const Mat3 Am = F - Mat3::Identity();
+  const Vec3 a = Am * S.d;
+  const Vec2 p_minus = in.p + c0 * u_k;
+  const Eigen::Matrix<double, 3, 2> RtE = in.R.transpose().leftCols<2>();
+  const Vec3 n = in.R.row(2).transpose();
+  const Mat3 P = Mat3::Identity() - n * n.transpose();
+  const Vec3 Rp = RtE * p_minus;
+
+  // Implicit equation G(F; eta, Pi, p, u_k) = 0 (multibody_lgvi.cpp), F -> F exp(hat xi).
+  const Mat3 DG = rotation_update_jacobian(F, Jd) + kappa * D * P * F * D;
+  Eigen::Matrix<double, 3, 12> Gz = Eigen::Matrix<double, 3, 12>::Zero();  // [w (10), u_k (2)]
+  Gz.block<3, 3>(0, 0) = kappa * D * (n.dot(a) * Mat3::Identity() + n * a.transpose()) * hat(n) -
+                         (0.5 * h * h * mg) * D * hat(n) + (m * h / total) * D * hat(Rp);
+  Gz.block<3, 3>(0, 5) = -h * Mat3::Identity();
+  const Eigen::Matrix<double, 3, 2> Gp = (m * h / total) * D * RtE;
+  Gz.block<3, 2>(0, 8) = Gp;
+  Gz.block<3, 2>(0, 10) = c0 * Gp;
+  const Eigen::Matrix<double, 3, 12> X = -DG.partialPivLu().solve(Gz);  // dxi/d[w; u_k]
+
+  // eta' = F^T eta + xi.
+  Eigen::Matrix<double, 3, 12> Eta = X;
+  Eta.block<3, 3>(0, 0) += F.transpose();
+  // delta = (h p^- - m E^T R (F - I) d) / (M + m), the cart's displacement.
+  Eigen::Matrix<double, 2, 12> Delta = (m / total) * RtE.transpose() * F * D * X;
+  Delta.block<2, 3>(0, 0) += (m / total) * RtE.transpose() * hat(a);
+  Delta.block<2, 2>(0, 8) += (h / total) * Eigen::Matrix2d::Identity();
+  Delta.block<2, 2>(0, 10) += (c0 * h / total) * Eigen::Matrix2d::Identity();
+  // Pi' = vee(Jd A - A^T Jd)/h + m/h d x R'^T E delta + h/2 M(R').
+  const Vec2 delta = out.q - in.q;
+  const Eigen::Matrix<double, 3, 2> E1 = out.R.transpose().leftCols<2>();
+  const Vec3 n1 = out.R.row(2).transpose();
+  const Mat3 FtJ = F.transpose() * Jd;
+  const Mat3 L2 = FtJ.trace() * Mat3::Identity() - FtJ;
+  const Eigen::Matrix<double, 3, 12> Pi = (L2 / h) * X + (m / h) * D * hat(E1 * delta) * Eta +
+                                          (m / h) * D * E1 * Delta + (0.5 * h * mg) * D * hat(n1) * Eta;
+
+  A.setZero();
+  B0.setZero();
+  B1.setZero();
+  A.block<3, 10>(0, 0) = Eta.leftCols<10>();
+  B0.block<3, 2>(0, 0) = Eta.rightCols<2>();
+  A.block<2, 10>(3, 0) = Delta.leftCols<10>();
+  A.block<2, 2>(3, 3) += Eigen::Matrix2d::Identity();
+  B0.block<2, 2>(3, 0) = Delta.rightCols<2>();
+  A.block<3, 10>(5, 0) = Pi.leftCols<10>();
+  B0.block<3, 2>(5, 0) = Pi.rightCols<2>();
+  A.block<2, 2>(8, 8) = Eigen::Matrix2d::Identity();
+  B0.block<2, 2>(8, 0) = c0 * Eigen::Matrix2d::Identity();
+  B1.block<2, 2>(8, 0) = c1 * Eigen::Matrix2d::Identity();
+}
+
+CartPendulumDirectModel::VecR CartPendulumDirectModel::residual(const Lgvi& lgvi, const Transfer& p,
+                                                                const State& sN) {
+  Vec3 Omega;
+  Vec2 q_dot;
+  lgvi.velocities(sN, Omega, q_dot);
+  VecR r;
+  r << so3::log(sN.R.transpose() * p.Rf), sN.q - p.qf, Omega - p.Omegaf, q_dot - p.q_dotf;
+  return r;
+}
+
+CartPendulumDirectModel::MatRW CartPendulumDirectModel::residual_jacobian(const Lgvi& lgvi, const Transfer& p,
+                                                                          const State& sN) {
+  const CartPendulum& S = lgvi.system();
+  Vec3 Omega;
+  Vec2 q_dot;
+  lgvi.velocities(sN, Omega, q_dot);
+  const Vec3 phi = so3::log(sN.R.transpose() * p.Rf);
+  MatRW D = MatRW::Zero();
+  D.block<3, 3>(0, 0) = -so3::left_jacobian_inverse(phi);
+  D.block<2, 2>(3, 3) = Eigen::Matrix2d::Identity();
+  // [Omega; q'] = M(R)^{-1} [Pi; p] (eq. 37): d = M^{-1} ([dPi; dp] - dM(R)[eta] [Omega; q']).
+  const Eigen::Matrix<double, 3, 2> RtE = sN.R.transpose().leftCols<2>();
+  const Mat3 Dd = hat(S.d);
+  Eigen::Matrix<double, 5, 10> rhs = Eigen::Matrix<double, 5, 10>::Zero();
+  rhs.block<3, 3>(0, 0) = -S.mass * Dd * hat(RtE * q_dot);
+  rhs.block<2, 3>(3, 0) = -S.mass * RtE.transpose() * hat(Dd * Omega);
+  rhs.block<5, 5>(0, 5) = Mat5::Identity();
+  D.block<5, 10>(5, 0) = Eigen::LLT<Mat5>(S.mass_matrix(sN.R)).solve(rhs);
+  return D;
+}
+
+CartPendulumState perturb(const CartPendulumState& s, const CartPendulum& system,
+                          const Eigen::Matrix<double, 10, 1>& w) {
+  CartPendulumState t = s;
+  t.R = s.R * so3::exp(w.head<3>());
+  t.q += w.segment<2>(3);
+  t.Pi += w.segment<3>(5);
+  t.p += w.segment<2>(8);
+  t.M = system.moment(t.R);
+  t.R_compensation.setZero();
+  return t;
+}
+
+// --- connected bodies --------------------------------------------------------------------------
+
+void ConnectedBodiesDirectModel::step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
+                                                const VecU& u_k, const VecU& u_k1, MatW& A, MatWU& B0,
+                                                MatWU& B1) {
+  const ConnectedBodies& S = lgvi.system();
+  const auto [c0, c1] = impulse_weights(lgvi.form(), h);
+  const double mu = S.mu;
+  const Mat3 &K1 = S.reduced1.Jd, &K2 = S.reduced2.Jd;
+  const Mat3 D1 = hat(S.d1), D2 = hat(S.d2);
+  const Mat3 F1 = in.R1.transpose() * out.R1, F2 = in.R2.transpose() * out.R2;
+  const Vec3 a1 = (F1 - Mat3::Identity()) * S.d1, a2 = (F2 - Mat3::Identity()) * S.d2;  // body frames
+  const Mat3 R12 = in.R1.transpose() * in.R2;
+
+  // G = 0 (eqs. 40-41), F_i -> F_i exp(hat xi_i); columns [eta1 eta2 Pi1 Pi2 u_k].
+  Mat6x6 DG;
+  DG.topLeftCorner<3, 3>() = rotation_update_jacobian(F1, K1);
+  DG.topRightCorner<3, 3>() = mu * D1 * R12 * F2 * D2;
+  DG.bottomLeftCorner<3, 3>() = mu * D2 * R12.transpose() * F1 * D1;
+  DG.bottomRightCorner<3, 3>() = rotation_update_jacobian(F2, K2);
+  Eigen::Matrix<double, 6, 15> Gz = Eigen::Matrix<double, 6, 15>::Zero();
+  Gz.block<3, 3>(0, 0) = -mu * D1 * hat(R12 * a2) - (h * c0) * hat(in.R1.transpose() * u_k);
+  Gz.block<3, 3>(0, 3) = mu * D1 * R12 * hat(a2);
+  Gz.block<3, 3>(0, 6) = -h * Mat3::Identity();
+  Gz.block<3, 3>(0, 12) = -(h * c0) * in.R1.transpose();
+  Gz.block<3, 3>(3, 0) = mu * D2 * R12.transpose() * hat(a1);
+  Gz.block<3, 3>(3, 3) = -mu * D2 * hat(R12.transpose() * a1) + (h * c0) * hat(in.R2.transpose() * u_k);
+  Gz.block<3, 3>(3, 9) = -h * Mat3::Identity();
+  Gz.block<3, 3>(3, 12) = (h * c0) * in.R2.transpose();
+  const Eigen::Matrix<double, 6, 15> X = -DG.partialPivLu().solve(Gz);
+  const auto X1 = X.topRows<3>();
+  const auto X2 = X.bottomRows<3>();
+
+  Eigen::Matrix<double, 3, 15> Eta1 = X1, Eta2 = X2;
+  Eta1.block<3, 3>(0, 0) += F1.transpose();
+  Eta2.block<3, 3>(0, 3) += F2.transpose();
+  // x = R1'^T a2 (inertial a2) = F1^T R12 a2; y = F2^T R12^T a1.
+  const Vec3 x = F1.transpose() * R12 * a2, y = F2.transpose() * R12.transpose() * a1;
+  Eigen::Matrix<double, 3, 15> dx = hat(x) * X1 - F1.transpose() * R12 * F2 * D2 * X2;
+  dx.block<3, 3>(0, 0) += F1.transpose() * hat(R12 * a2);
+  dx.block<3, 3>(0, 3) -= F1.transpose() * R12 * hat(a2);
+  Eigen::Matrix<double, 3, 15> dy = hat(y) * X2 - F2.transpose() * R12.transpose() * F1 * D1 * X1;
+  dy.block<3, 3>(0, 3) += F2.transpose() * hat(R12.transpose() * a1);
+  dy.block<3, 3>(0, 0) -= F2.transpose() * R12.transpose() * hat(a1);
+  const Mat3 FK1 = F1.transpose() * K1, FK2 = F2.transpose() * K2;
+  const Mat3 L1 = FK1.trace() * Mat3::Identity() - FK1, L2 = FK2.trace() * Mat3::Identity() - FK2;
+  Eigen::Matrix<double, 3, 15> P1 = (L1 / h) * X1 - (mu / h) * D1 * dx;
+  Eigen::Matrix<double, 3, 15> P2 = (L2 / h) * X2 - (mu / h) * D2 * dy;
+  // The end kicks +-c1 R_i'^T u_{k+1}.
+  if (c1 != 0.0) {
+    P1 += c1 * hat(out.R1.transpose() * u_k1) * Eta1;
+    P2 -= c1 * hat(out.R2.transpose() * u_k1) * Eta2;
+  }
+  A.setZero();
+  A.block<3, 12>(0, 0) = Eta1.leftCols<12>();
+  A.block<3, 12>(3, 0) = Eta2.leftCols<12>();
+  A.block<3, 12>(6, 0) = P1.leftCols<12>();
+  A.block<3, 12>(9, 0) = P2.leftCols<12>();
+  B0.block<3, 3>(0, 0) = Eta1.rightCols<3>();
+  B0.block<3, 3>(3, 0) = Eta2.rightCols<3>();
+  B0.block<3, 3>(6, 0) = P1.rightCols<3>();
+  B0.block<3, 3>(9, 0) = P2.rightCols<3>();
+  B1.setZero();
+  B1.block<3, 3>(6, 0) = c1 * out.R1.transpose();
+  B1.block<3, 3>(9, 0) = -c1 * out.R2.transpose();
+}
+
+ConnectedBodiesDirectModel::VecR ConnectedBodiesDirectModel::residual(const Lgvi& lgvi, const Transfer& p,
+                                                                      const State& sN) {
+  Vec3 Omega1, Omega2;
+  lgvi.velocities(sN, Omega1, Omega2);
+  VecR r;
+  r << so3::log(sN.R1.transpose() * p.R1_f), so3::log(sN.R2.transpose() * p.R2_f), Omega1 - p.Omega1_f,
+      Omega2 - p.Omega2_f;
+  return r;
+}
+
+ConnectedBodiesDirectModel::MatRW ConnectedBodiesDirectModel::residual_jacobian(const Lgvi& lgvi,
+                                                                                const Transfer& p,
+                                                                                const State& sN) {
+  const ConnectedBodies& S = lgvi.system();
+  Vec3 Omega1, Omega2;
+  lgvi.velocities(sN, Omega1, Omega2);
+  MatRW D = MatRW::Zero();
+  D.block<3, 3>(0, 0) = -so3::left_jacobian_inverse(so3::log(sN.R1.transpose() * p.R1_f));
+  D.block<3, 3>(3, 3) = -so3::left_jacobian_inverse(so3::log(sN.R2.transpose() * p.R2_f));
+  // Omega = M^{-1} Pi (eq. 47): dOmega = M^{-1} (dPi - dM[eta] Omega).
+  const Mat3 D1 = hat(S.d1), D2 = hat(S.d2);
+  const Mat3 R12 = sN.R1.transpose() * sN.R2;
+  const Vec3 v2 = D2 * Omega2, v1 = D1 * Omega1;
+  Eigen::Matrix<double, 6, 12> rhs = Eigen::Matrix<double, 6, 12>::Zero();
+  rhs.block<3, 3>(0, 0) = -S.mu * D1 * hat(R12 * v2);
+  rhs.block<3, 3>(0, 3) = S.mu * D1 * R12 * hat(v2);
+  rhs.block<3, 3>(3, 3) = -S.mu * D2 * hat(R12.transpose() * v1);
+  rhs.block<3, 3>(3, 0) = S.mu * D2 * R12.transpose() * hat(v1);
+  rhs.block<6, 6>(0, 6) = Mat6x6::Identity();
+  D.block<6, 12>(6, 0) = Eigen::LLT<Mat6x6>(S.mass_matrix(sN.R1, sN.R2)).solve(rhs);
+  return D;
+}
+
+ConnectedBodiesState perturb(const ConnectedBodiesState& s, const Eigen::Matrix<double, 12, 1>& w) {
+  ConnectedBodiesState t = s;
+  t.R1 = s.R1 * so3::exp(w.segment<3>(0));
+  t.R2 = s.R2 * so3::exp(w.segment<3>(3));
+  t.Pi1 += w.segment<3>(6);
+  t.Pi2 += w.segment<3>(9);
+  return t;
+}
+
+// --- names -------------------------------------------------------------------------------------
+
+const char* to_string(GradientMethod g) { return g == GradientMethod::Exact ? "exact" : "finite-difference"; }
+
+GradientMethod parse_gradient_method(const std::string& name) {
+  if (name == "exact") return GradientMethod::Exact;
+  if (name == "finite-difference") return GradientMethod::FiniteDifference;
+  throw InvalidInput("gradients", "must be 'exact' or 'finite-difference' (got '" + name + "')");
+}
+
+const char* to_string(DirectStatus s) {
+  switch (s) {
+    case DirectStatus::Converged: return "converged";
+    case DirectStatus::Infeasible: return "success reported but constraints violated";
+    case DirectStatus::RoundoffLimited: return "round-off limited";
+    case DirectStatus::MaxEvaluations: return "evaluation limit";
+    case DirectStatus::SimulationFailed: return "simulation failed";
+    case DirectStatus::SolverFailure: return "solver failure";
+    case DirectStatus::InvalidInput: return "invalid input";
+  }
+  return "unknown";
+}
+
+std::string DirectSummary::brief() const {
+  char buf[512];
+  if (status == DirectStatus::InvalidInput) {
+    std::snprintf(buf, sizeof buf, "%s: %s", to_string(status), message.c_str());
+    return buf;
+  }
+  std::snprintf(buf, sizeof buf,
+                "%s (%s) after %d iterations (%d evaluations, %ld simulations): cost %.8g, violation %.3g, "
+                "%.3g s%s%s",
+                to_string(status), nlopt_result.c_str(), iterations, evaluations, simulations, cost,
+                violation, wall_seconds, message.empty() ? "" : "; ", message.c_str());
+  return buf;
+}
+
+// --- transcription -----------------------------------------------------------------------------
+
+namespace {
+
+template <int N>
+Eigen::Matrix<double, N, N> validated_weight(const Eigen::MatrixXd& W) {
+  if (W.size() == 0) return Eigen::Matrix<double, N, N>::Identity();
+  if (W.rows() != N || W.cols() != N) {
+    throw InvalidInput("W", "must be " + std::to_string(N) + "x" + std::to_string(N));
+  }
+  require_finite(W, "W");
+  if ((W - W.transpose()).cwiseAbs().maxCoeff() > 1e-12 * W.cwiseAbs().maxCoeff()) {
+    throw InvalidInput("W", "is not symmetric (must be symmetric positive definite)");
+  }
+  const Eigen::Matrix<double, N, N> Ws = 0.5 * (W + W.transpose());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eig(Ws, Eigen::EigenvaluesOnly);
+  if (!(eig.eigenvalues()(0) > 1e-14 * eig.eigenvalues()(N - 1))) {
+    throw InvalidInput("W", "is not positive definite");
+  }
+  return Ws;
+}
+
+void require_rotation(const Mat3& R, const std::string& field) {
+  require_finite(R, field);
+  if (!so3::is_rotation(R, 1e-10)) throw InvalidInput(field, "is not a rotation matrix (R^T R != I or det R != 1)");
+}
+
+void validate(const CartPendulumTransfer& p) {
+  require_rotation(p.Rf, "Rf");
+  require_finite(p.qf, "qf");
+  require_finite(p.Omegaf, "Omegaf");
+  require_finite(p.q_dotf, "q_dotf");
+}
+void validate(const ConnectedBodiesTransfer& p) {
+  require_rotation(p.R1_f, "R1_f");
+  require_rotation(p.R2_f, "R2_f");
+  require_finite(p.Omega1_f, "Omega1_f");
+  require_finite(p.Omega2_f, "Omega2_f");
+}
+
+std::size_t whole_steps(double t_final, double h) {
+  require_positive(h, "h");
+  require_positive(t_final, "t_final");
+  const double n = t_final / h;
+  if (!(n >= 0.5) || n > 1e8 || std::abs(n - std::round(n)) > 1e-9 * n) {
+    std::ostringstream s;
+    s.precision(17);
+    s << "the horizon t_final = " << t_final << " is not a whole number of steps h = " << h;
+    throw InvalidInput("h", s.str());
+  }
+  return static_cast<std::size_t>(std::llround(n));
+}
+
+}  // namespace
+
+template <class Model>
+DirectTranscription<Model>::DirectTranscription(const System& system, const Transfer& problem,
+                                                const DirectOptions& options)
+    : lgvi_(system, options.form, options.newton), problem_(problem) {
+  h_ = options.h;
+  steps_ = whole_steps(problem.t_final, options.h);
+  if (options.knots < 3) throw InvalidInput("knots", "needs at least 3 knots per component");
+  if (static_cast<std::size_t>(options.knots) > steps_ + 1) {
+    throw InvalidInput("knots", "more knots than grid nodes");
+  }
+  knots_ = options.knots;
+  if (!options.constraint_rows.empty()) {
+    for (int r : options.constraint_rows) {
+      if (r < 0 || r >= Model::nr_full) throw InvalidInput("constraint_rows", "row out of range");
+    }
+    rows_ = options.constraint_rows;
+  } else {
+    for (int r = 0; r < (options.keep_redundant_constraint ? Model::nr_full : Model::nr); ++r) rows_.push_back(r);
+  }
+  W_ = validated_weight<nu>(options.W);
+  validate(problem);
+  S_ = spline_sampling_matrix(knots_, problem.t_final, static_cast<long>(steps_), options.spline);
+  const auto [c0, c1] = impulse_weights(options.form, h_);
+  node_weights_ = Eigen::VectorXd::Constant(steps_ + 1, c0 + c1);
+  node_weights_(0) = c0;
+  node_weights_(steps_) = c1;
+  initial_ = Model::initial_state(lgvi_, problem);
+}
+
+template <class Model>
+typename DirectTranscription<Model>::NodeControls DirectTranscription<Model>::node_controls(
+    const Eigen::VectorXd& c) const {
+  NodeControls U(nu, S_.rows());
+  for (int a = 0; a < nu; ++a) U.row(a) = (S_ * c.segment(a * knots_, knots_)).transpose();
+  return U;
+}
+
+template <class Model>
+bool DirectTranscription<Model>::evaluate(const Eigen::VectorXd& c, bool gradients, Evaluation& e) const {
+  const int np = parameters();
+  const std::size_t N = steps_;
+  e.controls.resize(nu, static_cast<Eigen::Index>(N + 1));
+  for (int a = 0; a < nu; ++a) e.controls.row(a).noalias() = (S_ * c.segment(a * knots_, knots_)).transpose();
+  // Cost and its gradient (exact: quadratic in c).
+  e.cost = 0.0;
+  e.cost_gradient.setZero(np);
+  for (std::size_t j = 0; j <= N; ++j) {
+    const VecU u = e.controls.col(static_cast<Eigen::Index>(j));
+    const VecU Wu = W_ * u;
+    e.cost += 0.5 * node_weights_(j) * u.dot(Wu);
+    if (gradients) {
+      for (int a = 0; a < nu; ++a) {
+        e.cost_gradient.segment(a * knots_, knots_) += (node_weights_(j) * Wu(a)) * S_.row(j).transpose();
+      }
+    }
+  }
+  if (gradients) {
+    e.Phi.setZero(nw, np);
+    e.Phi_next.resize(nw, np);
+  }
+  typename Model::MatW A;
+  typename Model::MatWU B0, B1;
+  State s = initial_, next;
+  e.ok = false;
+  for (std::size_t k = 0; k < N; ++k) {
+    const VecU u0 = e.controls.col(static_cast<Eigen::Index>(k));
+    const VecU u1 = e.controls.col(static_cast<Eigen::Index>(k + 1));
+    const RotationUpdateSummary r = lgvi_.step(s, h_, u0, u1, next);
+    if (!r.converged()) {
+      e.failed_step = k;
+      e.failure = r;
+      return false;
+    }
+    if (gradients) {
+      Model::step_jacobians(lgvi_, s, next, h_, u0, u1, A, B0, B1);
+      e.Phi_next.noalias() = A * e.Phi;
+      for (int a = 0; a < nu; ++a) {
+        e.Phi_next.middleCols(a * knots_, knots_).noalias() +=
+            B0.col(a) * S_.row(static_cast<Eigen::Index>(k)) + B1.col(a) * S_.row(static_cast<Eigen::Index>(k + 1));
+      }
+      e.Phi.swap(e.Phi_next);
+    }
+    s = next;
+  }
+  e.ok = true;
+  e.residual = Model::residual(lgvi_, problem_, s);
+  const int m = constraints();
+  e.constraints.resize(m);
+  for (int i = 0; i < m; ++i) e.constraints(i) = e.residual(rows_[i]);
+  if (gradients) {
+    const typename Model::MatRW D = Model::residual_jacobian(lgvi_, problem_, s);
+    e.constraint_jacobian.resize(m, np);
+    for (int i = 0; i < m; ++i) e.constraint_jacobian.row(i).noalias() = D.row(rows_[i]) * e.Phi;
+  }
+  return true;
+}
+
+template <class Model>
+bool DirectTranscription<Model>::evaluate_finite_difference(const Eigen::VectorXd& c, Evaluation& e) const {
+  if (!evaluate(c, false, e)) return false;
+  const int np = parameters();
+  const double a = std::cbrt(std::numeric_limits<double>::epsilon());
+  e.cost_gradient.resize(np);
+  e.constraint_jacobian.resize(constraints(), np);
+  Evaluation plus, minus;
+  Eigen::VectorXd x = c;
+  for (int i = 0; i < np; ++i) {
+    const double step = a * (1.0 + std::abs(c(i)));
+    x(i) = c(i) + step;
+    const bool ok_plus = evaluate(x, false, plus);
+    x(i) = c(i) - step;
+    const bool ok_minus = evaluate(x, false, minus);
+    x(i) = c(i);
+    if (!ok_plus || !ok_minus) {
+      e = ok_plus ? minus : plus;
+      return false;
+    }
+    e.cost_gradient(i) = (plus.cost - minus.cost) / (2.0 * step);
+    e.constraint_jacobian.col(i) = (plus.constraints - minus.constraints) / (2.0 * step);
+  }
+  return true;
+}
+
+template <class Model>
+std::vector<typename Model::State> DirectTranscription<Model>::trajectory(const Eigen::VectorXd& c) const {
+  const auto U = node_controls(c);
+  std::vector<State> states{initial_};
+  states.reserve(steps_ + 1);
+  State next;
+  for (std::size_t k = 0; k < steps_; ++k) {
+    const VecU u0 = U.col(static_cast<Eigen::Index>(k)), u1 = U.col(static_cast<Eigen::Index>(k + 1));
+    if (!lgvi_.step(states.back(), h_, u0, u1, next).converged()) return {};
+    states.push_back(next);
+  }
+  return states;
+}
+
+template <class Model>
+std::string DirectTranscription<Model>::failure_message(const Evaluation& e) const {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, "rotation update failed at step %zu (t = %.6g): %s", e.failed_step,
+                static_cast<double>(e.failed_step) * h_, e.failure.brief().c_str());
+  return buf;
+}
+
+template class DirectTranscription<CartPendulumDirectModel>;
+template class DirectTranscription<ConnectedBodiesDirectModel>;
+
+// --- SLSQP -------------------------------------------------------------------------------------
+
+Eigen::VectorXd default_initial_knots(const CartPendulum&, int knots) {
+  // One period of a circular force, u = 10 (cos 2 pi t/T, sin 2 pi t/T) N at the knots: it
+  // drives the cart round a loop, which swings the pendulum and turns it about the vertical.
+  Eigen::VectorXd c(2 * knots);
+  for (int i = 0; i < knots; ++i) {
+    const double phase = 2.0 * M_PI * i / (knots - 1);
+    c(i) = 10.0 * std::cos(phase);
+    c(knots + i) = 10.0 * std::sin(phase);
+  }
+  return c;
+}
+
+double default_guess_scale(const CartPendulum&) { return 10.0; }
+double default_guess_scale(const ConnectedBodies&) { return 0.3; }
+
+Eigen::VectorXd default_initial_knots(const ConnectedBodies&, int knots) {
+  // A cyclic shape change (the falling cat's): the joint moment about y and z in quadrature,
+  // 0.2 (0, sin 2 pi t/T, cos 2 pi t/T) N m, which rotates the system about x by geometric phase.
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(3 * knots);
+  for (int i = 0; i < knots; ++i) {
+    const double phase = 2.0 * M_PI * i / (knots - 1);
+    c(knots + i) = 0.2 * std::sin(phase);
+    c(2 * knots + i) = 0.2 * std::cos(phase);
+  }
+  return c;
+}
+
+namespace {
+
+std::string nlopt_name(nlopt_result r) {
+  switch (r) {
+    case NLOPT_SUCCESS: return "NLOPT_SUCCESS";
+    case NLOPT_STOPVAL_REACHED: return "NLOPT_STOPVAL_REACHED";
+    case NLOPT_FTOL_REACHED: return "NLOPT_FTOL_REACHED";
+    case NLOPT_XTOL_REACHED: return "NLOPT_XTOL_REACHED";
+    case NLOPT_MAXEVAL_REACHED: return "NLOPT_MAXEVAL_REACHED";
+    case NLOPT_MAXTIME_REACHED: return "NLOPT_MAXTIME_REACHED";
+    case NLOPT_FAILURE: return "NLOPT_FAILURE";
+    case NLOPT_INVALID_ARGS: return "NLOPT_INVALID_ARGS";
+    case NLOPT_OUT_OF_MEMORY: return "NLOPT_OUT_OF_MEMORY";
+    case NLOPT_ROUNDOFF_LIMITED: return "NLOPT_ROUNDOFF_LIMITED";
+    case NLOPT_FORCED_STOP: return "NLOPT_FORCED_STOP";
+    default: return "NLOPT_RESULT_" + std::to_string(static_cast<int>(r));
+  }
+}
+
+// The state shared with NLopt's callbacks. SLSQP asks for the objective and then the
+// constraints at the same point: one evaluation serves both (cached by the point).
+template <class Model>
+struct Callback {
+  const DirectTranscription<Model>* problem;
+  const DirectOptions* options;
+  double cost_scale = 1.0;  ///< the objective handed to SLSQP is J / cost_scale
+  typename DirectTranscription<Model>::Evaluation e;
+  Eigen::VectorXd x;
+  bool have = false;
+  bool have_gradients = false;
+  std::string failure;
+  int start_index = 0;
+  DirectSummary* summary;
+  std::chrono::steady_clock::time_point start;
+
+  bool ensure(const double* xp, bool gradients) {
+    const int n = problem->parameters();
+    const Eigen::Map<const Eigen::VectorXd> xm(xp, n);
+    const bool same = have && x == xm;
+    if (same && (have_gradients || !gradients)) return e.ok;
+    x = xm;
+    bool ok;
+    if (gradients && options->gradients == GradientMethod::FiniteDifference) {
+      ok = problem->evaluate_finite_difference(x, e);
+      summary->simulations += 1 + 2 * n;
+    } else {
+      ok = problem->evaluate(x, gradients, e);
+      summary->simulations += 1;
+    }
+    have = true;
+    have_gradients = gradients;
+    if (gradients) ++summary->gradient_evaluations;
+    if (!ok) {
+      // A trial point whose simulation fails (a rotation update that does not converge, e.g. at
+      // a huge trial step) is reported to SLSQP as an infinite cost: its line search then
+      // shortens the step. The last such failure is kept for the summary.
+      ++summary->failed_simulations;
+      failure = problem->failure_message(e);
+      return false;
+    }
+    if (same && !summary->history.empty()) {
+      summary->history.back().gradient = true;  // the same point, now with gradients
+      return true;
+    }
+    DirectIteration it;
+    it.evaluation = static_cast<int>(summary->history.size()) + 1;
+    it.start = start_index;
+    it.gradient = gradients;
+    it.cost = e.cost;
+    it.violation = e.constraints.norm();
+    it.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summary->history.push_back(it);
+    return true;
+  }
+
+  static double objective(unsigned n, const double* xp, double* grad, void* data) {
+    auto* self = static_cast<Callback*>(data);
+    if (!self->ensure(xp, grad != nullptr)) return HUGE_VAL;
+    if (grad != nullptr) {
+      Eigen::Map<Eigen::VectorXd>(grad, n) = self->e.cost_gradient / self->cost_scale;
+    }
+    return self->e.cost / self->cost_scale;
+  }
+
+  static void constraints(unsigned m, double* result, unsigned n, const double* xp, double* grad, void* data) {
+    auto* self = static_cast<Callback*>(data);
+    if (!self->ensure(xp, grad != nullptr)) {
+      for (unsigned i = 0; i < m; ++i) result[i] = HUGE_VAL;
+      return;
+    }
+    Eigen::Map<Eigen::VectorXd>(result, m) = self->e.constraints;
+    if (grad != nullptr) {
+      // NLopt: grad[i * n + j] = d c_i / d x_j (row major).
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(grad, m, n) =
+          self->e.constraint_jacobian;
+    }
+  }
+};
+
+// One SLSQP run from x (updated to the returned point). Appends to S.history, counts into S.
+template <class Model>
+nlopt_result run_slsqp(const DirectTranscription<Model>& tr, const DirectOptions& options, int start_index,
+                       Eigen::VectorXd& x, DirectSummary& S, std::chrono::steady_clock::time_point start) {
+  const int n = tr.parameters();
+  const int m = tr.constraints();
+  Callback<Model> cb;
+  cb.problem = &tr;
+  cb.options = &options;
+  cb.summary = &S;
+  cb.start = start;
+  cb.start_index = start_index;
+  // Scaling. The cost is quadratic in the knots, J = c^T H c / 2, H = W (x) S^T diag(w) S; SLSQP
+  // starts its quasi-Newton matrix at the identity, so the objective is J / mean(diag H): its
+  // Hessian then has unit mean diagonal. The constraints are O(1) in their units (rad, m, rad/s,
+  // m/s) and enter unscaled.
+  double diag = 0.0;
+  const Eigen::MatrixXd& Sm = tr.sampling();
+  for (Eigen::Index j = 0; j < Sm.rows(); ++j) diag += tr.node_weight(j) * Sm.row(j).squaredNorm();
+  cb.cost_scale = diag / static_cast<double>(Sm.cols()) * tr.weight().trace() / Model::nu;
+  nlopt_opt opt = nlopt_create(NLOPT_LD_SLSQP, static_cast<unsigned>(n));
+  nlopt_set_min_objective(opt, &Callback<Model>::objective, &cb);
+  // The constraint tolerance SLSQP uses for its own feasibility test (it returns the best point
+  // it deems feasible); the returned point is checked against options.tolerance regardless.
+  const std::vector<double> ctol(m, 0.1 * options.tolerance / std::sqrt(double(m)));
+  nlopt_add_equality_mconstraint(opt, static_cast<unsigned>(m), &Callback<Model>::constraints, &cb, ctol.data());
+  nlopt_set_ftol_rel(opt, options.ftol_rel);
+  nlopt_set_maxeval(opt, options.max_evaluations);
+  double f = 0.0;
+  const nlopt_result code = nlopt_optimize(opt, x.data(), &f);
+  nlopt_destroy(opt);
+  if (!cb.failure.empty()) S.last_failure = cb.failure;
+  return code;
+}
+
+DirectStatus true_status(nlopt_result code, bool feasible) {
+  switch (code) {
+    case NLOPT_SUCCESS:
+    case NLOPT_STOPVAL_REACHED:
+    case NLOPT_FTOL_REACHED:
+    case NLOPT_XTOL_REACHED: return feasible ? DirectStatus::Converged : DirectStatus::Infeasible;
+    case NLOPT_ROUNDOFF_LIMITED: return DirectStatus::RoundoffLimited;
+    case NLOPT_MAXEVAL_REACHED:
+    case NLOPT_MAXTIME_REACHED: return DirectStatus::MaxEvaluations;
+    default: return DirectStatus::SolverFailure;
+  }
+}
+
+template <class Model>
+DirectResult<Model> solve(const typename Model::System& system, const typename Model::Transfer& problem,
+                          const DirectOptions& options, const char* name) {
+  DirectResult<Model> result;
+  DirectSummary& S = result.summary;
+  S.system = name;
+  S.form = options.form;
+  S.spline = options.spline;
+  S.gradients = options.gradients;
+  S.h = options.h;
+  S.knots = options.knots;
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<DirectTranscription<Model>> tr;
+  try {
+    if (options.max_evaluations < 1) throw InvalidInput("max_evaluations", "must be >= 1");
+    if (!(options.tolerance > 0.0)) throw InvalidInput("tolerance", "must be > 0");
+    if (options.starts < 1) throw InvalidInput("starts", "must be >= 1");
+    if (!(options.guess_scale >= 0.0) || !std::isfinite(options.guess_scale)) {
+      throw InvalidInput("guess_scale", "must be finite and >= 0");
+    }
+    tr = std::make_unique<DirectTranscription<Model>>(system, problem, options);
+    S.initial_knots = options.initial_knots.size() > 0 ? options.initial_knots
+                                                       : default_initial_knots(system, options.knots);
+    if (S.initial_knots.size() != tr->parameters()) {
+      throw InvalidInput("initial_knots", "needs " + std::to_string(tr->parameters()) + " values (got " +
+                                              std::to_string(S.initial_knots.size()) + ")");
+    }
+    require_finite(S.initial_knots, "initial_knots");
+  } catch (const InvalidInput& e) {
+    S.status = DirectStatus::InvalidInput;
+    S.message = e.what();
+    return result;
+  }
+  S.steps = tr->steps();
+  S.constraints = tr->constraints();
+  const int n = tr->parameters();
+  const double sigma = options.guess_scale > 0.0 ? options.guess_scale : default_guess_scale(system);
+  std::mt19937_64 rng(options.seed);
+  std::normal_distribution<double> normal(0.0, sigma);
+
+  // Start 0 from the given (or default) guess; starts 1.. from seeded N(0, sigma^2) knot values.
+  // The result is the feasible start of lowest cost (else the least infeasible).
+  int best = -1;
+  Eigen::VectorXd best_x;
+  typename DirectTranscription<Model>::Evaluation best_e;
+  for (int k = 0; k < options.starts; ++k) {
+    DirectStart st;
+    st.index = k;
+    Eigen::VectorXd x = S.initial_knots;
+    if (k > 0) {
+      for (int i = 0; i < n; ++i) x(i) = normal(rng);
+    }
+    st.initial_knots = x;
+    const auto t0 = std::chrono::steady_clock::now();
+    const int gradients_before = S.gradient_evaluations;
+    const std::size_t history_before = S.history.size();
+    const nlopt_result code = run_slsqp(*tr, options, k, x, S, start);
+    st.nlopt_result = nlopt_name(code);
+    st.evaluations = static_cast<int>(S.history.size() - history_before);
+    st.gradient_evaluations = S.gradient_evaluations - gradients_before;
+    st.iterations = 0;
+    for (std::size_t i = history_before; i < S.history.size(); ++i) st.iterations += S.history[i].gradient ? 1 : 0;
+    // The true status, from our own evaluation of the returned point.
+    typename DirectTranscription<Model>::Evaluation e;
+    const bool ok = tr->evaluate(x, false, e);
+    S.simulations += 1;
+    st.knot_values = x;
+    if (!ok) {
+      st.status = DirectStatus::SimulationFailed;
+    } else {
+      st.cost = e.cost;
+      st.violation = e.residual.norm();
+      st.status = true_status(code, st.violation <= options.tolerance);
+    }
+    st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto better = [&](const DirectStart& a, const DirectStart& b) {
+      const bool fa = a.violation <= options.tolerance, fb = b.violation <= options.tolerance;
+      if (fa != fb) return fa;
+      return fa ? a.cost < b.cost : a.violation < b.violation;
+    };
+    if (ok && (best < 0 || better(st, S.starts[best]))) {
+      best = k;
+      best_x = x;
+      best_e = e;
+    }
+    S.starts.push_back(st);
+  }
+  S.best_start = best;
+  for (const DirectStart& st : S.starts) {
+    S.iterations += st.iterations;
+    S.evaluations += st.evaluations;
+  }
+  if (best < 0) {
+    S.status = DirectStatus::SimulationFailed;
+    S.message = S.last_failure.empty() ? "every start's returned point failed to simulate" : S.last_failure;
+    S.knot_values = S.starts.back().knot_values;
+  } else {
+    const DirectStart& b = S.starts[best];
+    S.status = b.status;
+    S.nlopt_result = b.nlopt_result;
+    S.knot_values = best_x;
+    S.cost = best_e.cost;
+    S.residual = best_e.residual;
+    S.violation = best_e.residual.norm();
+    S.constraint_violation = best_e.constraints.norm();
+    if (S.status != DirectStatus::Converged) {
+      S.message = S.violation <= options.tolerance ? "the returned point is feasible (violation within the tolerance)"
+                                                   : "the returned point violates the terminal conditions";
+    }
+    result.states = tr->trajectory(best_x);
+    result.controls = tr->node_controls(best_x);
+  }
+  S.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace
+
+DirectResult<CartPendulumDirectModel> solve_direct(const CartPendulum& system, const CartPendulumTransfer& problem,
+                                                    const DirectOptions& options) {
+  return solve<CartPendulumDirectModel>(system, problem, options, "cart-pendulum");
+}
+
+DirectResult<ConnectedBodiesDirectModel> solve_direct(const ConnectedBodies& system,
+                                                       const ConnectedBodiesTransfer& problem,
+                                                       const DirectOptions& options) {
+  return solve<ConnectedBodiesDirectModel>(system, problem, options, "connected-bodies");
+}
+
+}  // namespace lgvi::ocp

@@ -1,0 +1,317 @@
+// Direct discrete optimal control (sections 4.1, 4.2): controls parameterized by their values at
+// n knots per component, interpolated by cubic splines (spline.hpp), the LGVI run forward, the
+// cost (eqs. 38, 48) and the terminal constraints on the Lie group with exact gradients through
+// the linearized discrete flow, optimized by SQP (NLopt's SLSQP).
+//
+// Discrete problem. Controls sit at the grid nodes t_j = j h, j = 0..N, sampled from the spline:
+// u_j = S_j c (S: spline_sampling_matrix, c the knot values; u_j(a) = S(j, :) c_a for component
+// a, c = [c_0; c_1; ...] component by component). Step k is the integrator's
+// step(s_k, h, u_k, u_{k+1}); cost J = sum_j w_j/2 u_j^T W u_j with w_0 = c0, w_N = c1,
+// w_j = h otherwise (printed form: w_0 = 0, exactly eqs. 38, 48; see indirect.hpp).
+//
+// Terminal constraints r(s_N) = 0:
+//   cart-pendulum:    [log(R_N^T R_f)^vee; q_N - q_f; Omega_N - Omega_f; q'_N - q'_f]       (10)
+//   connected bodies: [log(R1_N^T R1_f)^vee; log(R2_N^T R2_f)^vee; Omega1_N - Omega1_f]    (9)
+// For the connected bodies the terminal Omega2 is dropped (section 4.2): the control is
+// internal, R1 Pi1 + R2 Pi2 is conserved, so with zero initial momentum and the other nine
+// conditions met Omega2_N = Omega2_f = 0 follows; kept, it makes the constraint Jacobian rank
+// deficient by 3 (DirectOptions::keep_redundant_constraint, tested). The reported violation is the
+// 2-norm of the FULL terminal condition (with Omega2), in the paper's variables.
+//
+// Gradients (derivation in README.md): forward sensitivities. Each step is linearized at its
+// converged solution by the implicit function theorem in left-trivialized tangent coordinates
+// (dR = R hat(eta)): w_{k+1} = A_k w_k + B0_k du_k + B1_k du_{k+1}, and
+// Phi_{k+1} = dw_{k+1}/dc = A_k Phi_k + B0_k S_k + B1_k S_{k+1}; dr/dc = D Phi_N, D = dr/dw_N.
+// Forward rather than adjoint: one sweep carries all n_u n columns (14, 21) together with the
+// simulation; the adjoint needs the stored trajectory and one backward sweep per constraint row
+// (10, 9), i.e. about the same work, more memory, and a second pass.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "lgvi/multibody_lgvi.hpp"
+#include "lgvi/ocp/spline.hpp"
+
+namespace lgvi::ocp {
+
+/// Section 4.1 boundary conditions: rest to rest, R0 = I, Rf = diag(-1, -1, 1), cart back at the
+/// origin, T = 2 s.
+struct CartPendulumTransfer {
+  Mat3 R0 = Mat3::Identity();
+  Vec2 q0 = Vec2::Zero();
+  Vec3 Omega0 = Vec3::Zero();
+  Vec2 q_dot0 = Vec2::Zero();
+  Mat3 Rf = Mat3::Identity();
+  Vec2 qf = Vec2::Zero();
+  Vec3 Omegaf = Vec3::Zero();
+  Vec2 q_dotf = Vec2::Zero();
+  double t_final = 2.0;
+  static CartPendulumTransfer paper();
+};
+
+/// Section 4.2 boundary conditions: rest to rest, R1_0 = R2_0 = I, R1_f = R2_f = diag(1, -1, -1),
+/// T = 4 s.
+struct ConnectedBodiesTransfer {
+  Mat3 R1_0 = Mat3::Identity(), R2_0 = Mat3::Identity();
+  Vec3 Omega1_0 = Vec3::Zero(), Omega2_0 = Vec3::Zero();
+  Mat3 R1_f = Mat3::Identity(), R2_f = Mat3::Identity();
+  Vec3 Omega1_f = Vec3::Zero(), Omega2_f = Vec3::Zero();
+  double t_final = 4.0;
+  static ConnectedBodiesTransfer paper();
+};
+
+/// The linearized step and the terminal residual of the cart-pendulum. Tangent coordinates
+/// w = [eta (3); dq (2); dPi (3); dp (2)], R -> R exp(hat eta).
+struct CartPendulumDirectModel {
+  static constexpr int nw = 10, nu = 2, nr = 10, nr_full = 10;
+  using System = CartPendulum;
+  using Lgvi = CartPendulumLgvi;
+  using State = CartPendulumState;
+  using Transfer = CartPendulumTransfer;
+  using VecU = Eigen::Matrix<double, nu, 1>;
+  using MatW = Eigen::Matrix<double, nw, nw>;
+  using MatWU = Eigen::Matrix<double, nw, nu>;
+  using VecR = Eigen::Matrix<double, nr_full, 1>;
+  using MatRW = Eigen::Matrix<double, nr_full, nw>;
+
+  /// A = dw_{k+1}/dw_k, B0 = dw_{k+1}/du_k, B1 = dw_{k+1}/du_{k+1} of step(in, h, u_k, u_k1) = out
+  /// (out must be that step's converged result). Allocates nothing.
+  static void step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
+                             const VecU& u_k, const VecU& u_k1, MatW& A, MatWU& B0, MatWU& B1);
+  /// Full terminal residual (see the header comment) and its Jacobian D = dr/dw_N.
+  static VecR residual(const Lgvi& lgvi, const Transfer& p, const State& sN);
+  static MatRW residual_jacobian(const Lgvi& lgvi, const Transfer& p, const State& sN);
+  static State initial_state(const Lgvi& lgvi, const Transfer& p) {
+    return lgvi.make_state(p.R0, p.q0, p.Omega0, p.q_dot0);
+  }
+};
+
+/// The same for the connected bodies: w = [eta1; eta2; dPi1; dPi2]. The residual's last three
+/// rows (Omega2_N - Omega2_f) are the redundant ones, dropped unless kept on request.
+struct ConnectedBodiesDirectModel {
+  static constexpr int nw = 12, nu = 3, nr = 9, nr_full = 12;
+  using System = ConnectedBodies;
+  using Lgvi = ConnectedBodiesLgvi;
+  using State = ConnectedBodiesState;
+  using Transfer = ConnectedBodiesTransfer;
+  using VecU = Eigen::Matrix<double, nu, 1>;
+  using MatW = Eigen::Matrix<double, nw, nw>;
+  using MatWU = Eigen::Matrix<double, nw, nu>;
+  using VecR = Eigen::Matrix<double, nr_full, 1>;
+  using MatRW = Eigen::Matrix<double, nr_full, nw>;
+
+  static void step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
+                             const VecU& u_k, const VecU& u_k1, MatW& A, MatWU& B0, MatWU& B1);
+  static VecR residual(const Lgvi& lgvi, const Transfer& p, const State& sN);
+  static MatRW residual_jacobian(const Lgvi& lgvi, const Transfer& p, const State& sN);
+  static State initial_state(const Lgvi& lgvi, const Transfer& p) {
+    return lgvi.make_state(p.R1_0, p.R2_0, p.Omega1_0, p.Omega2_0);
+  }
+};
+
+/// Tangent retraction for tests: the state moved by w (R -> R exp(hat eta), the rest added).
+CartPendulumState perturb(const CartPendulumState& s, const CartPendulum& system,
+                          const Eigen::Matrix<double, 10, 1>& w);
+ConnectedBodiesState perturb(const ConnectedBodiesState& s, const Eigen::Matrix<double, 12, 1>& w);
+
+enum class GradientMethod { Exact, FiniteDifference };
+const char* to_string(GradientMethod g);
+/// Parses "exact" or "finite-difference"; throws InvalidInput("gradients", ...).
+GradientMethod parse_gradient_method(const std::string& name);
+
+struct DirectOptions {
+  LgviForm form = LgviForm::Printed;  ///< printed: the paper's eqs. 34-35, 44-45 and cost 38, 48
+  double h = 0.01;                    ///< t_final / h must be an integer (to 1e-9 relative)
+  int knots = 7;                      ///< per control component, >= 3
+  SplineEnd spline = SplineEnd::NotAKnot;
+  GradientMethod gradients = GradientMethod::Exact;
+  Eigen::MatrixXd W;              ///< n_u x n_u symmetric positive definite; empty: identity
+  Eigen::VectorXd initial_knots;  ///< n_u * knots values, component by component; empty: default
+  int max_evaluations = 3000;     ///< SLSQP function evaluations per start
+  double tolerance = 1e-10;       ///< on the violation (2-norm), checked on the returned point
+  double ftol_rel = 1e-14;        ///< SLSQP's relative cost tolerance
+  /// Multistart: start 0 from initial_knots (or the default guess), starts 1.. from seeded
+  /// N(0, guess_scale^2) knot values (guess_scale 0: the system's default_guess_scale). The
+  /// result is the feasible start of lowest cost.
+  int starts = 1;
+  std::uint64_t seed = 1;
+  double guess_scale = 0.0;
+  /// Connected bodies: keep the terminal Omega2 among the constraints (rank deficient; tests).
+  bool keep_redundant_constraint = false;
+  /// Rows of the full terminal residual handed to SLSQP (free terminal components are left out);
+  /// empty: the model's default (all but the redundant ones). Overrides keep_redundant_constraint.
+  std::vector<int> constraint_rows;
+  GroupNewtonOptions newton;
+};
+
+enum class DirectStatus {
+  Converged,         ///< SLSQP reported success and the returned point's violation <= tolerance
+  Infeasible,        ///< SLSQP reported success but the violation is above the tolerance
+  RoundoffLimited,   ///< SLSQP stopped on round-off (e.g. rank-deficient constraints)
+  MaxEvaluations,    ///< evaluation cap reached
+  SimulationFailed,  ///< a rotation update did not converge (message: step, time, residual)
+  SolverFailure,     ///< any other NLopt failure
+  InvalidInput,      ///< bad problem or options (message names the field)
+};
+const char* to_string(DirectStatus s);
+
+/// One SLSQP function evaluation at a new point: NLopt's SLSQP asks for gradients at each new
+/// iterate (one per SQP iteration) and for values only at its line-search trials.
+struct DirectIteration {
+  int evaluation = 0;
+  int start = 0;           ///< which start of a multistart (DirectOptions::starts)
+  bool gradient = false;   ///< an SQP iterate (gradients requested), not a line-search trial
+  double cost = 0.0;
+  double violation = 0.0;  ///< 2-norm of the constraints handed to SLSQP
+  double seconds = 0.0;    ///< cumulative wall time
+};
+
+/// The outcome of one start of a multistart.
+struct DirectStart {
+  int index = 0;
+  DirectStatus status = DirectStatus::SolverFailure;
+  std::string nlopt_result;
+  double cost = std::numeric_limits<double>::infinity();
+  double violation = std::numeric_limits<double>::infinity();
+  int iterations = 0;
+  int evaluations = 0;
+  int gradient_evaluations = 0;
+  double seconds = 0.0;
+  Eigen::VectorXd initial_knots, knot_values;
+};
+
+struct DirectSummary {
+  DirectStatus status = DirectStatus::InvalidInput;
+  std::string message;
+  std::string nlopt_result;  ///< NLopt's own return code, e.g. "NLOPT_FTOL_REACHED"
+  std::string system;
+  LgviForm form = LgviForm::Printed;
+  SplineEnd spline = SplineEnd::NotAKnot;
+  GradientMethod gradients = GradientMethod::Exact;
+  double h = 0.0;
+  std::size_t steps = 0;
+  int knots = 0;
+  int constraints = 0;            ///< rows handed to SLSQP
+  int iterations = 0;             ///< SQP iterations: points where SLSQP asked for gradients
+  int evaluations = 0;            ///< points evaluated (iterates and line-search trials)
+  int gradient_evaluations = 0;   ///< evaluations of the gradients (exact or by differences)
+  long simulations = 0;           ///< forward runs of the LGVI (incl. the difference runs)
+  int failed_simulations = 0;     ///< trial points whose LGVI run failed (cost reported as +inf)
+  double cost = std::numeric_limits<double>::infinity();
+  double violation = std::numeric_limits<double>::infinity();  ///< full terminal condition
+  double constraint_violation = std::numeric_limits<double>::infinity();  ///< rows given to SLSQP
+  Eigen::VectorXd residual;       ///< full terminal residual at the end
+  Eigen::VectorXd initial_knots;
+  Eigen::VectorXd knot_values;    ///< at the end, component by component
+  double wall_seconds = 0.0;
+  std::vector<DirectIteration> history;  ///< all starts
+  std::vector<DirectStart> starts;
+  int best_start = -1;            ///< the start reported (status, cost, knots)
+  std::string last_failure;       ///< the last failed trial simulation, if any
+
+  bool converged() const { return status == DirectStatus::Converged; }
+  /// One line, e.g. "converged (NLOPT_FTOL_REACHED) after 45 iterations (60 evaluations, ...): cost ...".
+  std::string brief() const;
+};
+
+/// The transcription: knot values -> node controls -> LGVI run -> cost, constraints and their
+/// exact gradients. Immutable after construction; evaluate() allocates only on its first call
+/// with a given Evaluation (buffers are reused).
+template <class Model>
+class DirectTranscription {
+ public:
+  static constexpr int nw = Model::nw;
+  static constexpr int nu = Model::nu;
+  using System = typename Model::System;
+  using State = typename Model::State;
+  using Transfer = typename Model::Transfer;
+  using VecU = typename Model::VecU;
+  using NodeControls = Eigen::Matrix<double, nu, Eigen::Dynamic>;  ///< u_0..u_N as columns
+
+  /// Validates h, t_final / h integral, knots >= 3, W, the boundary rotations. Throws InvalidInput.
+  DirectTranscription(const System& system, const Transfer& problem, const DirectOptions& options);
+
+  struct Evaluation {
+    bool ok = false;
+    std::size_t failed_step = 0;
+    RotationUpdateSummary failure;
+    double cost = 0.0;
+    Eigen::VectorXd cost_gradient;           ///< n_u * knots
+    Eigen::VectorXd constraints;             ///< rows handed to the optimizer
+    Eigen::MatrixXd constraint_jacobian;     ///< constraints x (n_u * knots)
+    typename Model::VecR residual;           ///< full terminal residual
+    Eigen::Matrix<double, nw, Eigen::Dynamic> Phi, Phi_next;  ///< sensitivity buffers
+    NodeControls controls;                                     ///< u_0..u_N (columns)
+  };
+
+  int parameters() const { return nu * knots_; }
+  int constraints() const { return static_cast<int>(rows_.size()); }
+  /// Runs the LGVI with the controls of knot values c; with `gradients`, also the exact gradients
+  /// of the cost and of the constraints. Returns e.ok.
+  bool evaluate(const Eigen::VectorXd& c, bool gradients, Evaluation& e) const;
+  /// The same gradients by central differences (step a (1 + |c_i|), a = cbrt(eps)).
+  bool evaluate_finite_difference(const Eigen::VectorXd& c, Evaluation& e) const;
+  /// The states s_0..s_N for output (empty on failure).
+  std::vector<State> trajectory(const Eigen::VectorXd& c) const;
+  /// u_0..u_N (columns) of knot values c.
+  NodeControls node_controls(const Eigen::VectorXd& c) const;
+  std::string failure_message(const Evaluation& e) const;
+
+  const typename Model::Lgvi& lgvi() const { return lgvi_; }
+  const Transfer& problem() const { return problem_; }
+  const Eigen::MatrixXd& sampling() const { return S_; }
+  double node_weight(Eigen::Index j) const { return node_weights_(j); }
+  const Eigen::Matrix<double, nu, nu>& weight() const { return W_; }
+  std::size_t steps() const { return steps_; }
+  double h() const { return h_; }
+  int knots() const { return knots_; }
+
+ private:
+  typename Model::Lgvi lgvi_;
+  Transfer problem_;
+  double h_;
+  std::size_t steps_;
+  int knots_;
+  std::vector<int> rows_;  ///< rows of the full residual that are constraints
+  Eigen::MatrixXd S_;  ///< (N+1) x knots
+  Eigen::Matrix<double, nu, nu> W_;
+  Eigen::VectorXd node_weights_;  ///< w_j
+  State initial_;
+};
+
+template <class Model>
+struct DirectResult {
+  DirectSummary summary;
+  std::vector<typename Model::State> states;               ///< s_0..s_N at the returned knots
+  Eigen::Matrix<double, Model::nu, Eigen::Dynamic> controls;  ///< u_0..u_N
+};
+
+/// The default initial guess (no information about the answer; the zero control is degenerate:
+/// at rest with u = 0 the linearization cannot turn the pendulum about the vertical, nor the
+/// connected bodies about x, and log(R_N^T R_f) is at its cut locus): documented in README.md.
+Eigen::VectorXd default_initial_knots(const CartPendulum&, int knots);
+Eigen::VectorXd default_initial_knots(const ConnectedBodies&, int knots);
+/// The standard deviation of the random starts: the default guess's amplitude.
+double default_guess_scale(const CartPendulum&);
+double default_guess_scale(const ConnectedBodies&);
+
+/// SLSQP on the knot values. The returned point's violation is checked here: NLopt's success
+/// codes become Converged only when it is within options.tolerance. Never throws; bad input
+/// becomes status InvalidInput with a message naming the field.
+DirectResult<CartPendulumDirectModel> solve_direct(const CartPendulum& system,
+                                                    const CartPendulumTransfer& problem,
+                                                    const DirectOptions& options);
+DirectResult<ConnectedBodiesDirectModel> solve_direct(const ConnectedBodies& system,
+                                                       const ConnectedBodiesTransfer& problem,
+                                                       const DirectOptions& options);
+
+extern template class DirectTranscription<CartPendulumDirectModel>;
+extern template class DirectTranscription<ConnectedBodiesDirectModel>;
+
+}  // namespace lgvi::ocp
