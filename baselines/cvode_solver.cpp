@@ -3,8 +3,8 @@
 // requested times (CV_NORMAL, stop time at the last one), the Euler model's singular set as a
 // root function, CVODE's projection interface for the renormalized quaternion (BDF only).
 // Every return flag is checked; CVODE's error handler is redirected into the status.
-#include <cvode/cvode.h>
-#include <cvode/cvode_proj.h>
+#include <cvodes/cvodes.h>  // CVODES provides the CVODE API (CMakeLists.txt: one SUNDIALS integrator library)
+#include <cvodes/cvodes_proj.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>

@@ -61,4 +61,20 @@ constexpr double kOcpFdTolerance = 1e-6;
 // Terminal violation the shooting must reach (the acceptance bound).
 constexpr double kOcpViolation = 1e-12;
 
+// --- Continuous sensitivities and shooting (tests/baselines) ----------------------------------
+// Integration tolerance of the CVODES sensitivities under test.
+constexpr double kSensRtol = 1e-10;
+// Global error of an adaptive run over the O(1) horizons used, as a multiple of rtol (states and
+// sensitivities of order 1..10; the baselines' README measures global errors of 1..100 rtol).
+constexpr double kSensGlobalErrorPerRtol = 1e3;
+// Finite differences of the baseline flow: step a, flow tolerance rtol_fd. Error
+// a^2 |y'''| / 6 + kSensGlobalErrorPerRtol rtol_fd / a ~ 2e-9 + 1e-6 worst case, plus the
+// sensitivities' own 1e3 rtol; asserted relative to |S| with that sum.
+constexpr double kSensFdStep = 1e-4;
+constexpr double kSensFdRtol = 1e-13;
+constexpr double kSensFdTolerance =
+    kSensFdStep * kSensFdStep + kSensGlobalErrorPerRtol * kSensFdRtol / kSensFdStep + kSensGlobalErrorPerRtol * kSensRtol;
+// Observed order of convergence: 2 +- 0.2.
+constexpr double kSensOrderTolerance = 0.2;
+
 }  // namespace lgvi::test
