@@ -114,6 +114,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     double atol = 0.0;
     std::string method_help = "Method:";
     for (const std::string& n : method_names()) method_help += " " + n;
+    method_help += " (lgvi: order 2; lgvi-yoshida4, lgvi-suzuki4: composed, order 4; lgvi-yoshida6, "
+                   "lgvi-kahan-li6: composed, order 6)";
     sim->add_option("--method", method_name, method_help)->capture_default_str();
     CLI::Option* model_opt = sim->add_option(
         "--model", model_name, "Baseline's coordinate model: quaternion | quaternion-renormalized | euler | matrix");

@@ -43,7 +43,9 @@ struct MethodOptions {
   std::optional<double> atol;
 };
 
-/// The method names make_method accepts.
+/// The method names make_method accepts: "lgvi" (order 2), the composed LGVIs "lgvi-yoshida4",
+/// "lgvi-suzuki4" (order 4), "lgvi-yoshida6", "lgvi-kahan-li6" (order 6; symmetric form only,
+/// lgvi/composition.hpp), then baselines::solver_names().
 std::vector<std::string> method_names();
 
 /// Method by name. Throws InvalidInput("method", ...) for an unknown name.

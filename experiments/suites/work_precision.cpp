@@ -97,7 +97,10 @@ Suite work_precision_suite(const SuiteParams& params) {
   s.description = "final-state and energy error against wall time and evaluations, sweeping h and rtol";
   s.columns = simulation_columns();
   std::vector<Sweep> sweeps = {{"pendulum", 5.0}, {"free-body", 20.0}};
-  if (!params.quick) sweeps.push_back({"dumbbell", 4.0 * M_PI});
+  // One orbit only: the dumbbell's circular relative equilibrium is unstable, and over two
+  // orbits it amplifies round-off to 1e-4 in the final attitude (measured: the reference and the
+  // finest RK4 runs then disagree non-monotonically), which no method can beat.
+  if (!params.quick) sweeps.push_back({"dumbbell", 2.0 * M_PI});
   const std::size_t levels = params.quick ? 7 : 9;  // finest: 250 x 2^(levels-1) steps
   const std::size_t finest = kCoarsestSteps << (levels - 1);
   const std::vector<double> tolerances =

@@ -12,9 +12,11 @@
 #include <set>
 #include <thread>
 
+#include "experiments/atomic_file.hpp"
 #include "experiments/csv_writer.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/suite.hpp"
+#include "experiments/suite_jobs.hpp"
 #include "tests/experiments/cli_support.hpp"
 
 namespace lgvi::test {
@@ -374,6 +376,98 @@ TEST(SuiteEndToEnd, ACaseThatDoesNotEndAsExpectedMakesTheExitStatusTwo) {
   EXPECT_EQ(rows[0].text("status"), "rotation update failed");
   EXPECT_EQ(rows[0].text("as_expected"), "false");
   EXPECT_EQ(rows[2].text("as_expected"), "true");
+}
+
+// --- any job as a case ----------------------------------------------------------------------------
+
+/// A case that is not a scene x method run (as the optimal-control suites will be): writes one
+/// small file, or throws, or reports a failure.
+class ToyJob final : public experiments::Job {
+ public:
+  enum class Kind { Writes, Throws, Fails };
+  explicit ToyJob(Kind kind) : kind_(kind) {}
+  void validate(const fs::path&) const override {}
+  experiments::JobResult run(const experiments::JobContext& ctx) const override {
+    if (kind_ == Kind::Throws) {
+      experiments::CsvWriter half(ctx.out_dir / (ctx.case_id + ".csv"), {"k"});
+      const double row[] = {1.0};
+      half.write_row(row);
+      throw std::runtime_error("stalled at iteration 3");  // before commit: no file
+    }
+    experiments::AtomicFile f(ctx.out_dir / (ctx.case_id + ".txt"));
+    f.write("iterations 7\n");
+    f.commit();
+    if (kind_ == Kind::Fails) return {false, "shooting-stalled", "no descent at iteration 7", {{"iterations", 7.0}}};
+    return {true, "completed", "converged in 7 iterations", {{"iterations", 7.0}, {"residual", 1e-12}}};
+  }
+
+ private:
+  Kind kind_;
+};
+
+TEST(SuiteJobs, AnyJobRunsRecordsAndAnExceptionBecomesAnErrorRow) {
+  TempDir dir;
+  Suite s;
+  s.name = "toy";
+  s.columns = {"iterations", "residual"};
+  const auto add = [&](const std::string& id, ToyJob::Kind kind, Expectation e) {
+    s.cases.push_back({id, "toy", {}, e, std::make_shared<ToyJob>(kind)});
+  };
+  add("writes", ToyJob::Kind::Writes, Expectation::Complete);
+  add("throws", ToyJob::Kind::Throws, Expectation::Either);
+  add("fails", ToyJob::Kind::Fails, Expectation::Fail);
+  add("fails-unexpectedly", ToyJob::Kind::Fails, Expectation::Complete);
+  experiments::SuiteOptions options;
+  options.out_dir = dir.work() / "res";
+  options.jobs = 3;
+  std::ostringstream progress;
+  const experiments::SuiteResult r = experiments::run_suite(s, options, progress);
+  ASSERT_EQ(r.cases.size(), 4u);
+  EXPECT_EQ(r.unexpected(), 2u);  // the exception is never expected; nor a failure expected to complete
+  EXPECT_TRUE(r.cases[0].as_expected);
+  EXPECT_FALSE(r.cases[1].as_expected);
+  EXPECT_EQ(r.cases[1].result.status, "error");
+  EXPECT_EQ(r.cases[1].result.detail, "stalled at iteration 3");
+  EXPECT_TRUE(r.cases[2].as_expected);
+  EXPECT_FALSE(r.cases[3].as_expected);
+  EXPECT_FALSE(fs::exists(dir.work() / "res" / "throws.csv"));
+  EXPECT_TRUE(hidden_files(dir.work() / "res").empty());
+  const auto rows = experiments::read_summary_csv(dir.work() / "res" / "summary.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[0].number("iterations"), 7.0);
+  EXPECT_EQ(rows[0].number("residual"), 1e-12);
+  EXPECT_EQ(rows[1].text("status"), "error");
+  EXPECT_EQ(rows[2].text("status"), "shooting-stalled");
+  EXPECT_FALSE(rows[2].number("residual").has_value());
+  EXPECT_NE(progress.str().find("[4/4]"), std::string::npos) << progress.str();
+  EXPECT_NE(progress.str().find("UNEXPECTED"), std::string::npos) << progress.str();
+}
+
+TEST(SuiteJobs, FinalStateErrorIsTheLargestRelativeDifference) {
+  const experiments::Scene scene = experiments::load_scene(default_scene_file("free-body"));
+  experiments::Sample ref;
+  ref.t = 2.0;
+  ref.Omega = Vec3(3.0, 0.0, 4.0);  // |Omega| = 5
+  experiments::Sample s = ref;
+  s.Omega.x() += 0.05;  // relative 0.01
+  s.R(0, 1) = 1e-3;
+  // 3.05 - 3 is 0.05 to a few ulps of 3: the tolerance is that rounding, relative to 5.
+  EXPECT_NEAR(experiments::final_state_error(scene.model, s, ref), 0.01, 8 * 3.0 * 2.2e-16 / 5.0);
+  s.R(0, 1) = 0.5;
+  EXPECT_DOUBLE_EQ(experiments::final_state_error(scene.model, s, ref), 0.5);
+  s.t = 1.0;  // a run that stopped early has no final-state error
+  EXPECT_TRUE(std::isnan(experiments::final_state_error(scene.model, s, ref)));
+}
+
+TEST(SuiteSummary, AMalformedRowIsNamedByItsLine) {
+  TempDir dir;
+  write_text(dir.work() / "summary.csv", "index,case,status\n0,a,completed\n1,b\n");
+  try {
+    experiments::read_summary_csv(dir.work() / "summary.csv");
+    ADD_FAILURE() << "no error";
+  } catch (const experiments::OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 3 has 2 cells, the header 3"), std::string::npos) << e.what();
+  }
 }
 
 // --- composed LGVIs as methods -----------------------------------------------------------------
