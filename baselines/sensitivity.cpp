@@ -162,6 +162,7 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
     stats.status = IntegrationStatus::SolverFailed;
     stats.failed_time = t;
     stats.failure_detail = detail;
+    stats.failed_step = stats.steps;
   };
   auto check = [&](int flag, const char* call) {
     if (flag < 0 && stats.ok()) {
