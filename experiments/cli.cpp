@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "experiments/atomic_file.hpp"
+#include "experiments/figures_command.hpp"
 #include "experiments/method.hpp"
 #include "experiments/ocp_command.hpp"
 #include "experiments/plot.hpp"
@@ -154,6 +155,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     suite_cmd->add_option("--gnuplot", gnuplot, "gnuplot executable")->capture_default_str();
     OcpCommand ocp_options;
     CLI::App* ocp_cmd = add_ocp_command(app, ocp_options);
+    FiguresCommand figures_options;
+    CLI::App* figures_cmd = add_figures_command(app, figures_options);
 
     try {
       app.parse(argc, argv);
@@ -165,6 +168,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
     if (scenes_cmd->parsed()) return list_scenes(scenes_dir, out);
     if (ocp_cmd->parsed()) return run_ocp_command(ocp_options, command_line, out, err);
+    if (figures_cmd->parsed()) return run_figures_command(figures_options, command_line, out, err);
 
     if (sim->parsed()) {
       SceneOverrides overrides;

@@ -1,0 +1,110 @@
+#include "experiments/figures_command.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <ostream>
+
+#include "experiments/atomic_file.hpp"
+#include "experiments/ocp_command.hpp"
+#include "experiments/plot.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool is_direct(const std::string& system) { return system == "cart-pendulum" || system == "connected-bodies"; }
+
+std::string figure_title(const std::string& system, int number) {
+  // Appends only: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
+  std::string n = "Fig. ";
+  n.append(std::to_string(number)).append(": ");
+  if (system == "dumbbell") return n + "dumbbell spacecraft, indirect discrete optimal control (section 3.1)";
+  if (system == "pendulum") return n + "3D pendulum, indirect discrete optimal control (section 3.2)";
+  if (system == "cart-pendulum") return n + "3D pendulum on a cart, direct discrete optimal control (section 4.1)";
+  return n + "two rigid bodies connected by a ball joint, direct discrete optimal control (section 4.2)";
+}
+
+std::string script_name(const std::string& system) {
+  std::string s = "fig_";
+  s.append(system).append(".gp");
+  for (char& c : s) {
+    if (c == '-') c = '_';
+  }
+  return s;
+}
+
+fs::path require_file(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) {
+    throw OutputError(file.string() + ": not found (run `lgvi-testbed ocp` first, or drop --from)");
+  }
+  return file;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, int>> figure_systems() {
+  return {{"dumbbell", 2}, {"pendulum", 3}, {"cart-pendulum", 4}, {"connected-bodies", 5}};
+}
+
+CLI::App* add_figures_command(CLI::App& app, FiguresCommand& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "figures", "Regenerate the paper's Figs. 2-5 (PNG) from the four optimal control examples");
+  cmd->add_option("--out", o.out, "Output directory of the ocp files and the figures")->capture_default_str();
+  cmd->add_option("--from", o.from,
+                  "Draw from the ocp-SYSTEM-*.csv files in this directory instead of solving again");
+  cmd->add_option("--only", o.only, "Systems to draw: dumbbell, pendulum, cart-pendulum, connected-bodies")
+      ->check(CLI::IsMember({"dumbbell", "pendulum", "cart-pendulum", "connected-bodies"}));
+  o.plots_dir = default_plots_dir().string();
+  o.gnuplot = default_gnuplot();
+  cmd->add_option("--plots-dir", o.plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
+  cmd->add_option("--gnuplot", o.gnuplot, "gnuplot executable")->capture_default_str();
+  return cmd;
+}
+
+int run_figures_command(const FiguresCommand& o, const std::string& command_line, std::ostream& out,
+                        std::ostream& err) {
+  const fs::path out_dir(o.out);
+  const fs::path data_dir = o.from.empty() ? out_dir : fs::path(o.from);
+  if (!o.from.empty()) {
+    std::error_code ec;
+    if (!fs::is_directory(data_dir, ec)) {
+      err << "error: --from: " << data_dir.string() << ": not a directory\n" << std::flush;
+      return 1;
+    }
+  }
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) throw OutputError(out_dir.string() + ": cannot create the output directory: " + ec.message());
+
+  int status = 0;
+  for (const auto& [system, number] : figure_systems()) {
+    if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), system) == o.only.end()) continue;
+    if (o.from.empty()) {
+      OcpCommand ocp;
+      ocp.system = system;
+      ocp.out = out_dir.string();
+      const int code = run_ocp_command(ocp, command_line, out, err);
+      if (code == 1) return 1;
+      if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
+    }
+    std::string stem = "ocp-";
+    stem.append(system);
+    std::vector<std::string> args = {figure_title(system, number),
+                                     require_file(data_dir / (stem + "-trajectory.csv")).string(),
+                                     require_file(data_dir / (stem + "-history.csv")).string()};
+    if (is_direct(system)) args.push_back(require_file(data_dir / (stem + "-knots.csv")).string());
+    std::string png_name = "fig";
+    png_name.append(std::to_string(number)).append("-").append(system).append(".png");
+    const fs::path png = out_dir / png_name;
+    run_gnuplot_script(o.gnuplot, fs::path(o.plots_dir) / script_name(system), png, args);
+    out << "wrote " << png.string() << "\n" << std::flush;
+  }
+  return status;
+}
+
+}  // namespace lgvi::experiments
