@@ -83,10 +83,12 @@ class BaselineMethod final : public Method {
       const baselines::DumbbellMechanics mech(m.system, control);
       return run_chart(scene, mech, {m.initial.R}, {m.initial.Omega}, m.initial.x, m.initial.v, recorder);
     } else if constexpr (!std::is_same_v<SceneModel, FreeBodyModel> && !std::is_same_v<SceneModel, PendulumModel>) {
-      // Any later system without a Mechanics type (baselines/README.md says what one needs).
+      // Any later system without a Mechanics type (baselines/mechanics.hpp; the multibody ones
+      // in baselines/README.md show what one needs).
       // Thrown before anything is written: the CSV is committed only after run().
       throw InvalidInput("method", info_.name + ": no continuous-time model of the " + std::string(SceneModel::name) +
-                                       " system yet (baselines cover free-body, pendulum, dumbbell)");
+                                       " system yet (baselines cover free-body, pendulum, dumbbell, cart-pendulum, "
+                                       "connected-bodies)");
     } else {
       using System = std::decay_t<decltype(m.system)>;
       auto control = std::function<Vec3(double)>{};
