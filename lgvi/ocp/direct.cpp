@@ -519,6 +519,26 @@ Eigen::VectorXd default_initial_knots(const ConnectedBodies&, int knots) {
   return c;
 }
 
+template <class System>
+Eigen::VectorXd random_start_knots(const System& system, const DirectOptions& options, int start) {
+  const int n = System::Control::RowsAtCompileTime * options.knots;
+  const double sigma = options.guess_scale > 0.0 ? options.guess_scale : default_guess_scale(system);
+  std::mt19937_64 rng(options.seed);
+  std::normal_distribution<double> normal(0.0, sigma);
+  Eigen::VectorXd x(n);
+  for (int k = 1; k <= start; ++k) {
+    for (int i = 0; i < n; ++i) x(i) = normal(rng);
+  }
+  return x;
+}
+
+Eigen::VectorXd start_knots(const CartPendulum& system, const DirectOptions& options, int start) {
+  return random_start_knots(system, options, start);
+}
+Eigen::VectorXd start_knots(const ConnectedBodies& system, const DirectOptions& options, int start) {
+  return random_start_knots(system, options, start);
+}
+
 namespace {
 
 std::string nlopt_name(nlopt_result r) {
@@ -701,10 +721,6 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   }
   S.steps = tr->steps();
   S.constraints = tr->constraints();
-  const int n = tr->parameters();
-  const double sigma = options.guess_scale > 0.0 ? options.guess_scale : default_guess_scale(system);
-  std::mt19937_64 rng(options.seed);
-  std::normal_distribution<double> normal(0.0, sigma);
 
   // Start 0 from the given (or default) guess; starts 1.. from seeded N(0, sigma^2) knot values.
   // The result is the feasible start of lowest cost (else the least infeasible).
@@ -714,10 +730,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   for (int k = 0; k < options.starts; ++k) {
     DirectStart st;
     st.index = k;
-    Eigen::VectorXd x = S.initial_knots;
-    if (k > 0) {
-      for (int i = 0; i < n; ++i) x(i) = normal(rng);
-    }
+    Eigen::VectorXd x = k == 0 ? S.initial_knots : start_knots(system, options, k);
     st.initial_knots = x;
     const auto t0 = std::chrono::steady_clock::now();
     const int gradients_before = S.gradient_evaluations;

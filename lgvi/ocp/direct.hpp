@@ -300,6 +300,10 @@ Eigen::VectorXd default_initial_knots(const ConnectedBodies&, int knots);
 /// The standard deviation of the random starts: the default guess's amplitude.
 double default_guess_scale(const CartPendulum&);
 double default_guess_scale(const ConnectedBodies&);
+/// The initial knots of random start `start` >= 1 of a multistart (DirectOptions: knots, seed,
+/// guess_scale): the start-th block of n_u * knots draws of N(0, sigma^2) from mt19937_64(seed).
+Eigen::VectorXd start_knots(const CartPendulum& system, const DirectOptions& options, int start);
+Eigen::VectorXd start_knots(const ConnectedBodies& system, const DirectOptions& options, int start);
 
 /// SLSQP on the knot values. The returned point's violation is checked here: NLopt's success
 /// codes become Converged only when it is within options.tolerance. Never throws; bad input
