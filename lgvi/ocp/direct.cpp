@@ -657,7 +657,9 @@ nlopt_result run_slsqp(const DirectTranscription<Model>& tr, const DirectOptions
   double diag = 0.0;
   const Eigen::MatrixXd& Sm = tr.sampling();
   for (Eigen::Index j = 0; j < Sm.rows(); ++j) diag += tr.node_weight(j) * Sm.row(j).squaredNorm();
-  cb.cost_scale = diag / static_cast<double>(Sm.cols()) * tr.weight().trace() / Model::nu;
+  cb.cost_scale = options.objective_scale > 0.0
+                      ? options.objective_scale
+                      : diag / static_cast<double>(Sm.cols()) * tr.weight().trace() / Model::nu;
   nlopt_opt opt = nlopt_create(NLOPT_LD_SLSQP, static_cast<unsigned>(n));
   nlopt_set_min_objective(opt, &Callback<Model>::objective, &cb);
   // The constraint tolerance SLSQP uses for its own feasibility test (it returns the best point
@@ -703,6 +705,9 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
     if (options.max_evaluations < 1) throw InvalidInput("max_evaluations", "must be >= 1");
     if (!(options.tolerance > 0.0)) throw InvalidInput("tolerance", "must be > 0");
     if (options.starts < 1) throw InvalidInput("starts", "must be >= 1");
+    if (!(options.objective_scale >= 0.0) || !std::isfinite(options.objective_scale)) {
+      throw InvalidInput("objective_scale", "must be finite and >= 0");
+    }
     if (!(options.guess_scale >= 0.0) || !std::isfinite(options.guess_scale)) {
       throw InvalidInput("guess_scale", "must be finite and >= 0");
     }

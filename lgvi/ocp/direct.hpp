@@ -136,6 +136,9 @@ struct DirectOptions {
   int max_evaluations = 3000;     ///< SLSQP function evaluations per start
   double tolerance = 1e-10;       ///< on the violation (2-norm), checked on the returned point
   double ftol_rel = 1e-14;        ///< SLSQP's relative cost tolerance
+  /// The objective handed to SLSQP is J / objective_scale; 0: automatic, the mean diagonal of
+  /// the cost's Hessian in the knots (README "SLSQP").
+  double objective_scale = 0.0;
   /// Multistart: start 0 from initial_knots (or the default guess), starts 1.. from seeded
   /// N(0, guess_scale^2) knot values (guess_scale 0: the system's default_guess_scale). The
   /// result is the feasible start of lowest cost.
