@@ -37,14 +37,20 @@ constexpr int kMaxEvaluations = 3000;  // per start; the connected bodies' start
 
 std::string join(const Eigen::VectorXd& v) {
   std::string s;
-  for (Eigen::Index i = 0; i < v.size(); ++i) s += (i > 0 ? " " : "") + shortest(v(i));
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (i > 0) s += ' ';
+    s += shortest(v(i));
+  }
   return s;
 }
 
 template <class F>
 std::string start_field(const ocp::DirectSummary& S, F f, const char* separator = " ") {
   std::string s;
-  for (std::size_t i = 0; i < S.starts.size(); ++i) s += (i > 0 ? separator : "") + f(S.starts[i]);
+  for (std::size_t i = 0; i < S.starts.size(); ++i) {
+    if (i > 0) s += separator;
+    s += f(S.starts[i]);
+  }
   return s;
 }
 
@@ -56,11 +62,11 @@ void append_matrix(std::vector<double>& row, const Mat3& R) {
 std::vector<std::string> trajectory_columns(bool cart, int nu) {
   std::vector<std::string> c = {"t"};
   const auto matrix = [&](const std::string& name) {
-    for (int i = 1; i <= 3; ++i)
-      for (int j = 1; j <= 3; ++j) c.push_back(name + std::to_string(i) + std::to_string(j));
+    for (char i = '1'; i <= '3'; ++i)
+      for (char j = '1'; j <= '3'; ++j) c.push_back(name + i + j);
   };
   const auto vector = [&](const std::string& name) {
-    for (int i = 1; i <= 3; ++i) c.push_back(name + std::to_string(i));
+    for (char i = '1'; i <= '3'; ++i) c.push_back(name + i);
   };
   if (cart) {
     matrix("R");
@@ -72,7 +78,7 @@ std::vector<std::string> trajectory_columns(bool cart, int nu) {
     vector("Omega1_");
     vector("Omega2_");
   }
-  for (int i = 1; i <= nu; ++i) c.push_back("u" + std::to_string(i));
+  for (int i = 1; i <= nu; ++i) c.push_back(std::string(1, 'u') + static_cast<char>('0' + i));
   c.push_back("energy");
   return c;
 }
@@ -182,7 +188,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
       {"start_iterations", start_field(S, [](const ocp::DirectStart& s) { return std::to_string(s.iterations); })},
       {"start_statuses", start_field(S, [](const ocp::DirectStart& s) { return std::string(ocp::to_string(s.status)); }, "; ")},
       {"knot_times", join(knot_times)},
-      {"initial_knots", join(S.initial_knots)},
+      {"initial_knots", join(S.best_start >= 0 ? S.starts[S.best_start].initial_knots : S.initial_knots)},
       {"knot_values", join(S.knot_values)},
       {"knot_layout", std::string(cart ? "u_x at the knots, then u_y" : "u_1 at the knots, then u_2, then u_3")},
       {"paper_cost", paper.cost},

@@ -519,6 +519,26 @@ Eigen::VectorXd default_initial_knots(const ConnectedBodies&, int knots) {
   return c;
 }
 
+template <class System>
+Eigen::VectorXd random_start_knots(const System& system, const DirectOptions& options, int start) {
+  const int n = System::Control::RowsAtCompileTime * options.knots;
+  const double sigma = options.guess_scale > 0.0 ? options.guess_scale : default_guess_scale(system);
+  std::mt19937_64 rng(options.seed);
+  std::normal_distribution<double> normal(0.0, sigma);
+  Eigen::VectorXd x(n);
+  for (int k = 1; k <= start; ++k) {
+    for (int i = 0; i < n; ++i) x(i) = normal(rng);
+  }
+  return x;
+}
+
+Eigen::VectorXd start_knots(const CartPendulum& system, const DirectOptions& options, int start) {
+  return random_start_knots(system, options, start);
+}
+Eigen::VectorXd start_knots(const ConnectedBodies& system, const DirectOptions& options, int start) {
+  return random_start_knots(system, options, start);
+}
+
 namespace {
 
 std::string nlopt_name(nlopt_result r) {
@@ -637,7 +657,9 @@ nlopt_result run_slsqp(const DirectTranscription<Model>& tr, const DirectOptions
   double diag = 0.0;
   const Eigen::MatrixXd& Sm = tr.sampling();
   for (Eigen::Index j = 0; j < Sm.rows(); ++j) diag += tr.node_weight(j) * Sm.row(j).squaredNorm();
-  cb.cost_scale = diag / static_cast<double>(Sm.cols()) * tr.weight().trace() / Model::nu;
+  cb.cost_scale = options.objective_scale > 0.0
+                      ? options.objective_scale
+                      : diag / static_cast<double>(Sm.cols()) * tr.weight().trace() / Model::nu;
   nlopt_opt opt = nlopt_create(NLOPT_LD_SLSQP, static_cast<unsigned>(n));
   nlopt_set_min_objective(opt, &Callback<Model>::objective, &cb);
   // The constraint tolerance SLSQP uses for its own feasibility test (it returns the best point
@@ -683,6 +705,9 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
     if (options.max_evaluations < 1) throw InvalidInput("max_evaluations", "must be >= 1");
     if (!(options.tolerance > 0.0)) throw InvalidInput("tolerance", "must be > 0");
     if (options.starts < 1) throw InvalidInput("starts", "must be >= 1");
+    if (!(options.objective_scale >= 0.0) || !std::isfinite(options.objective_scale)) {
+      throw InvalidInput("objective_scale", "must be finite and >= 0");
+    }
     if (!(options.guess_scale >= 0.0) || !std::isfinite(options.guess_scale)) {
       throw InvalidInput("guess_scale", "must be finite and >= 0");
     }
@@ -701,10 +726,6 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   }
   S.steps = tr->steps();
   S.constraints = tr->constraints();
-  const int n = tr->parameters();
-  const double sigma = options.guess_scale > 0.0 ? options.guess_scale : default_guess_scale(system);
-  std::mt19937_64 rng(options.seed);
-  std::normal_distribution<double> normal(0.0, sigma);
 
   // Start 0 from the given (or default) guess; starts 1.. from seeded N(0, sigma^2) knot values.
   // The result is the feasible start of lowest cost (else the least infeasible).
@@ -714,10 +735,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   for (int k = 0; k < options.starts; ++k) {
     DirectStart st;
     st.index = k;
-    Eigen::VectorXd x = S.initial_knots;
-    if (k > 0) {
-      for (int i = 0; i < n; ++i) x(i) = normal(rng);
-    }
+    Eigen::VectorXd x = k == 0 ? S.initial_knots : start_knots(system, options, k);
     st.initial_knots = x;
     const auto t0 = std::chrono::steady_clock::now();
     const int gradients_before = S.gradient_evaluations;

@@ -136,6 +136,9 @@ struct DirectOptions {
   int max_evaluations = 3000;     ///< SLSQP function evaluations per start
   double tolerance = 1e-10;       ///< on the violation (2-norm), checked on the returned point
   double ftol_rel = 1e-14;        ///< SLSQP's relative cost tolerance
+  /// The objective handed to SLSQP is J / objective_scale; 0: automatic, the mean diagonal of
+  /// the cost's Hessian in the knots (README "SLSQP").
+  double objective_scale = 0.0;
   /// Multistart: start 0 from initial_knots (or the default guess), starts 1.. from seeded
   /// N(0, guess_scale^2) knot values (guess_scale 0: the system's default_guess_scale). The
   /// result is the feasible start of lowest cost.
@@ -300,6 +303,10 @@ Eigen::VectorXd default_initial_knots(const ConnectedBodies&, int knots);
 /// The standard deviation of the random starts: the default guess's amplitude.
 double default_guess_scale(const CartPendulum&);
 double default_guess_scale(const ConnectedBodies&);
+/// The initial knots of random start `start` >= 1 of a multistart (DirectOptions: knots, seed,
+/// guess_scale): the start-th block of n_u * knots draws of N(0, sigma^2) from mt19937_64(seed).
+Eigen::VectorXd start_knots(const CartPendulum& system, const DirectOptions& options, int start);
+Eigen::VectorXd start_knots(const ConnectedBodies& system, const DirectOptions& options, int start);
 
 /// SLSQP on the knot values. The returned point's violation is checked here: NLopt's success
 /// codes become Converged only when it is within options.tolerance. Never throws; bad input

@@ -91,6 +91,21 @@ TEST(OcpCli, CartPendulumDirectWritesHistoryTrajectoryAndSummary) {
   EXPECT_EQ(data, 201u);  // nodes 0..200
 }
 
+// A capped run: not converged (exit 2), the status says why, the files are still written.
+TEST(OcpCli, ConnectedBodiesEvaluationLimitIsReportedWithFiles) {
+  TempDir dir;
+  const CliResult r =
+      run_testbed(dir, {"ocp", "connected-bodies", "--starts", "1", "--max-iterations", "5", "--out", "."});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  const std::string json = read_text(dir.work() / "ocp-connected-bodies-summary.json");
+  for (const char* key : {"\"status\": \"evaluation limit\"", "\"nlopt_result\": \"NLOPT_MAXEVAL_REACHED\"",
+                          "\"converged\": false", "\"constraints\": 9", "\"paper_cost\": 0.574"}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key << " not in " << json;
+  }
+  EXPECT_NE(read_text(dir.work() / "ocp-connected-bodies-trajectory.csv").find("t,R1_11,"), std::string::npos);
+}
+
 TEST(OcpCli, DirectBadInputIsOneErrorLineAndNoFiles) {
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{"ocp", "cart-pendulum", "--spline", "clamped", "--out", "."},
