@@ -183,13 +183,9 @@ PontryaginEvaluation PendulumShootingFunction::evaluate(const Vec6& lambda0, boo
   }
   const Ode::State y0 = ode_.initial_state(problem_.R0, problem_.Omega0, lambda0);
   const bool sens = jacobian && method == ShootingJacobian::Sensitivities;
-  Eigen::MatrixXd S0 = Eigen::MatrixXd::Zero(Ode::kDim, sens ? 6 : 1);
+  Eigen::MatrixXd S0 = Eigen::MatrixXd::Zero(Ode::kDim, sens ? 6 : 0);
   if (sens) S0.middleRows<6>(Ode::kLambdaR).setIdentity();
-  // Without sensitivities one column is still integrated (CVODES needs n_s >= 1), excluded from the
-  // error test so that it does not change the step sequence.
-  SensitivitySettings settings = integration_;
-  if (!sens) settings.sensitivity_error_control = false;
-  const SensitivityResult run = integrate_sensitivities(ode_, y0, S0, 0.0, problem_.t_final, settings);
+  const SensitivityResult run = integrate_sensitivities(ode_, y0, S0, 0.0, problem_.t_final, integration_);
   e.stats = run.stats;
   if (!run.ok()) {
     e.message = run.stats.brief();

@@ -134,9 +134,7 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
   const int n = ode.dimension();
   if (y0.size() != n) throw InvalidInput("y0", "must have the model's dimension " + std::to_string(n));
   require_finite(y0, "y0");
-  if (S0.rows() != n || S0.cols() < 1) {
-    throw InvalidInput("S0", "must have " + std::to_string(n) + " rows and at least one column");
-  }
+  if (S0.rows() != n) throw InvalidInput("S0", "must have " + std::to_string(n) + " rows");
   require_finite(S0, "S0");
   if (!std::isfinite(t0) || !std::isfinite(t1) || !(t1 > t0)) throw InvalidInput("t1", "must be finite and > t0");
   if (!(settings.rtol > 0.0) || !std::isfinite(settings.rtol)) throw InvalidInput("rtol", "must be finite and > 0");
@@ -183,10 +181,12 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
     fail(t0, "CVODES allocation failed");
     return finish();
   }
-  cv.yS = N_VCloneVectorArray(Ns, cv.y);
-  cv.Ns = Ns;
+  if (Ns > 0) {
+    cv.yS = N_VCloneVectorArray(Ns, cv.y);
+    cv.Ns = Ns;
+  }
   cv.LS = SUNLinSol_Dense(cv.y, cv.A, cv.ctx);
-  if (!cv.yS || !cv.LS) {
+  if ((Ns > 0 && !cv.yS) || !cv.LS) {
     fail(t0, "CVODES allocation failed (sensitivity vectors or linear solver)");
     return finish();
   }
@@ -199,7 +199,7 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
   std::vector<int> plist(static_cast<std::size_t>(Ns));
   for (int i = 0; i < Ns; ++i) plist[static_cast<std::size_t>(i)] = i;
   const int ism = settings.corrector == SensitivityCorrector::Simultaneous ? CV_SIMULTANEOUS : CV_STAGGERED;
-  const bool ok =
+  bool ok =
       check(CVodeSetErrHandlerFn(cv.mem, error_handler, &user), "CVodeSetErrHandlerFn") &&
       check(CVodeInit(cv.mem, f_rhs, t0, cv.y), "CVodeInit") &&
       check(CVodeSetUserData(cv.mem, &user), "CVodeSetUserData") &&
@@ -207,8 +207,10 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
       check(CVodeSetLinearSolver(cv.mem, cv.LS, cv.A), "CVodeSetLinearSolver") &&
       check(CVodeSetJacFn(cv.mem, f_jac), "CVodeSetJacFn") &&
       check(CVodeSetStopTime(cv.mem, t1), "CVodeSetStopTime") &&
-      check(CVodeSetMaxNumSteps(cv.mem, static_cast<long>(settings.max_steps)), "CVodeSetMaxNumSteps") &&
-      check(CVodeSensInit(cv.mem, Ns, ism, settings.rhs == SensitivityRhs::Analytic ? f_sens : nullptr, cv.yS),
+      check(CVodeSetMaxNumSteps(cv.mem, static_cast<long>(settings.max_steps)), "CVodeSetMaxNumSteps");
+  // No columns: the state alone (plain CVODE), e.g. the line-search trials of the shooting.
+  ok = ok && (Ns == 0 ||
+      (check(CVodeSensInit(cv.mem, Ns, ism, settings.rhs == SensitivityRhs::Analytic ? f_sens : nullptr, cv.yS),
             "CVodeSensInit") &&
       check(CVodeSensSStolerances(cv.mem, settings.rtol, atolS.data()), "CVodeSensSStolerances") &&
       check(CVodeSetSensErrCon(cv.mem, settings.sensitivity_error_control ? SUNTRUE : SUNFALSE),
@@ -216,7 +218,7 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
       // Centered differences (rho = 0: CVODES's default increment); only used by DifferenceQuotient.
       check(CVodeSetSensDQMethod(cv.mem, CV_CENTERED, 0.0), "CVodeSetSensDQMethod") &&
       (settings.rhs == SensitivityRhs::Analytic ||
-       check(CVodeSetSensParams(cv.mem, p_dummy.data(), pbar.data(), plist.data()), "CVodeSetSensParams"));
+       check(CVodeSetSensParams(cv.mem, p_dummy.data(), pbar.data(), plist.data()), "CVodeSetSensParams"))));
   if (!ok) return finish();
 
   realtype t = t0;
@@ -226,7 +228,7 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
   if (CVodeGetNumErrTestFails(cv.mem, &netf) >= 0 && CVodeGetNumNonlinSolvConvFails(cv.mem, &ncfn) >= 0) {
     stats.rejected_steps = static_cast<std::size_t>(netf + ncfn);
   }
-  if (CVodeGetSensNumErrTestFails(cv.mem, &netfS) >= 0 && CVodeGetSensNumNonlinSolvConvFails(cv.mem, &ncfnS) >= 0) {
+  if (Ns > 0 && CVodeGetSensNumErrTestFails(cv.mem, &netfS) >= 0 && CVodeGetSensNumNonlinSolvConvFails(cv.mem, &ncfnS) >= 0) {
     stats.rejected_steps += static_cast<std::size_t>(netfS + ncfnS);
   }
   if (CVodeGetNumNonlinSolvIters(cv.mem, &nni) >= 0) stats.nonlinear_iterations = static_cast<std::size_t>(nni);
@@ -242,7 +244,7 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
     return finish();
   }
   realtype tS = t;
-  if (!check(CVodeGetSens(cv.mem, &tS, cv.yS), "CVodeGetSens")) return finish();
+  if (Ns > 0 && !check(CVodeGetSens(cv.mem, &tS, cv.yS), "CVodeGetSens")) return finish();
   for (int i = 0; i < Ns; ++i) result.S.col(i) = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(cv.yS[i]), n);
   if (!result.y.allFinite() || !result.S.allFinite()) fail(t1, "non-finite state or sensitivities at the end");
   return finish();

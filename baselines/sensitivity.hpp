@@ -66,7 +66,7 @@ struct SensitivityResult {
 };
 
 /// Integrates y' = f(t, y) from (t0, y0) to t1 > t0 with the forward sensitivities S(t0) = S0
-/// (n x n_s, 1 <= n_s). Never prints; every CVODES flag is checked and a failure is returned
+/// (n x n_s; n_s = 0: the state alone, without CVodeSensInit). Never prints; every CVODES flag is checked and a failure is returned
 /// in stats (a right-hand side on the model's singular set or with non-finite values stops the
 /// run). Throws InvalidInput for bad arguments ("y0", "S0", "t1", "rtol", "atol").
 SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd& y0, const Eigen::MatrixXd& S0,

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <random>
 
@@ -182,6 +183,24 @@ TEST(Pontryagin, ConvergesAndAgreesWithTheDiscreteOptimum) {
   std::cout << "[ measured ] from (1, ..., 1): " << r1.summary.brief() << "\n";
   ASSERT_TRUE(r1.summary.converged()) << r1.summary.brief();
   EXPECT_NEAR(r1.summary.cost, r.summary.cost, 1e3 * kSensRtol * r.summary.cost);
+}
+
+// The violation reached follows the integration tolerance (default tolerance kViolationPerRtol
+// rtol), and the cost converges as rtol falls.
+TEST(Pontryagin, ViolationFollowsTheIntegrationTolerance) {
+  double reference = 0.0;
+  for (const double rtol : {1e-12, 1e-10, 1e-8, 1e-6}) {
+    ContinuousShootingOptions o;
+    o.integration.rtol = rtol;
+    o.initial_costate = Eigen::VectorXd::Ones(6);
+    const auto r = baselines::solve_pontryagin(Pendulum3D::paper(), TransferProblem::pendulum_paper(), o);
+    std::printf("[ measured ] rtol %.0e: %s, J = %.10f, %zu integrations, %zu steps, %zu RHS\n", rtol,
+                r.summary.brief().c_str(), r.summary.cost, r.integrations, r.integration_steps, r.rhs_evaluations);
+    ASSERT_TRUE(r.summary.converged()) << r.summary.brief();
+    EXPECT_LE(r.summary.violation, baselines::kViolationPerRtol * rtol);
+    if (rtol == 1e-12) reference = r.summary.cost;
+    EXPECT_NEAR(r.summary.cost, reference, kSensGlobalErrorPerRtol * rtol * reference);
+  }
 }
 
 // The differences Jacobian reaches the same optimum.

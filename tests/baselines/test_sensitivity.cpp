@@ -217,7 +217,14 @@ TEST(Sensitivity, BadInputThrowsAndFailuresAreReported) {
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(7, 7);
   SensitivitySettings s;
   EXPECT_THROW(baselines::integrate_sensitivities(ode, y0.head(5), I, 0.0, 1.0, s), InvalidInput);
-  EXPECT_THROW(baselines::integrate_sensitivities(ode, y0, I.leftCols(0), 0.0, 1.0, s), InvalidInput);
+  EXPECT_THROW(baselines::integrate_sensitivities(ode, y0, I.topRows(6), 0.0, 1.0, s), InvalidInput);
+  // No columns: the state alone, as with sensitivities.
+  s.rtol = kSensRtol;
+  const auto plain = baselines::integrate_sensitivities(ode, y0, I.leftCols(0), 0.0, 1.0, s);
+  const auto with = baselines::integrate_sensitivities(ode, y0, I, 0.0, 1.0, s);
+  ASSERT_TRUE(plain.ok() && with.ok());
+  EXPECT_EQ(plain.S.cols(), 0);
+  EXPECT_LT((plain.y - with.y).norm(), kSensGlobalErrorPerRtol * kSensRtol);
   EXPECT_THROW(baselines::integrate_sensitivities(ode, y0, I, 0.0, 0.0, s), InvalidInput);
   s.rtol = -1.0;
   EXPECT_THROW(baselines::integrate_sensitivities(ode, y0, I, 0.0, 1.0, s), InvalidInput);
