@@ -3,6 +3,8 @@
 //   ocp-SYSTEM-history.csv     one row per SLSQP evaluation (cost, violation)
 //   ocp-SYSTEM-trajectory.csv  t, the scene's state columns (experiments/recorder), controls
 //   ocp-SYSTEM-summary.json    cost, violation, evaluations, gradients, wall time, status, knots
+//   ocp-SYSTEM-knots.csv       t and the optimized knot values u1..u_nu, one row per knot (the
+//                              circles of the paper's Figs. 4(b), 5(b))
 #include <cmath>
 #include <filesystem>
 #include <ostream>
@@ -129,6 +131,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
   const fs::path history = dir / (stem + "-history.csv");
   const fs::path trajectory = dir / (stem + "-trajectory.csv");
   const fs::path summary = dir / (stem + "-summary.json");
+  const fs::path knots_file = dir / (stem + "-knots.csv");
   constexpr bool cart = Model::nu == 2;
 
   Eigen::VectorXd knot_times(S.knots);
@@ -195,6 +198,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
       {"paper_violation", paper.violation},
       {"history_csv", history.filename().string()},
       {"trajectory_csv", trajectory.filename().string()},
+      {"knots_csv", knots_file.filename().string()},
       {"git_describe", std::string(git_describe())},
       {"command_line", command_line},
   };
@@ -227,9 +231,22 @@ int solve_and_write(const typename Model::System& system, const typename Model::
     }
     csv.commit(f);
   }
+  if (S.knot_values.size() == static_cast<Eigen::Index>(Model::nu) * S.knots) {
+    std::vector<std::string> cols = {"t"};
+    for (int i = 1; i <= Model::nu; ++i) cols.push_back("u" + std::to_string(i));
+    CsvWriter csv(knots_file, cols);
+    std::vector<double> row;
+    for (int j = 0; j < S.knots; ++j) {
+      row.assign({knot_times(j)});
+      for (int i = 0; i < Model::nu; ++i) row.push_back(S.knot_values(i * S.knots + j));  // knot_layout
+      csv.write_row(row);
+    }
+    csv.commit(f);
+  }
   write_json_summary(summary, {f});
   out << "ocp " << cmd.system << ": " << S.brief() << "\n";
-  out << "wrote " << history.string() << ", " << trajectory.string() << ", " << summary.string() << "\n";
+  out << "wrote " << history.string() << ", " << trajectory.string() << ", " << knots_file.string() << ", "
+      << summary.string() << "\n";
   if (!S.converged()) {
     err << "error: ocp " << cmd.system << ": " << S.brief() << " (results written to " << dir.string() << ")\n"
         << std::flush;

@@ -1,9 +1,12 @@
 // `lgvi-testbed ocp`: the three output files, their content, and bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "experiments/cli_support.hpp"
+#include "test_support.hpp"
 
 namespace lgvi::test {
 namespace {
@@ -89,6 +92,23 @@ TEST(OcpCli, CartPendulumDirectWritesHistoryTrajectoryAndSummary) {
   }
   EXPECT_EQ(header, 1u);
   EXPECT_EQ(data, 201u);  // nodes 0..200
+
+  // The knots file: one row per knot, and the spline passes through its knots. The knots at
+  // t = 0, 1, 2 s are nodes 0, 100, 200 of the trajectory, whose controls must equal them up to
+  // the round-off of the spline's linear map: a sum over the 7 knots of the largest knot value.
+  const CsvParts knots = read_csv(out / "ocp-cart-pendulum-knots.csv");
+  ASSERT_EQ(knots.header, (std::vector<std::string>{"t", "u1", "u2"}));
+  ASSERT_EQ(knots.rows.size(), 7u);
+  const CsvParts trajectory = read_csv(out / "ocp-cart-pendulum-trajectory.csv");
+  double largest = 0.0;
+  for (const auto& row : knots.rows) largest = std::max({largest, std::abs(row[1]), std::abs(row[2])});
+  for (const auto& [knot, node] : {std::pair{0, 0}, std::pair{3, 100}, std::pair{6, 200}}) {
+    const std::vector<double>& k = knots.rows[static_cast<std::size_t>(knot)];
+    const std::vector<double>& n = trajectory.rows[static_cast<std::size_t>(node)];
+    EXPECT_NEAR(k[0], n[trajectory.column("t")], 1e-12);
+    EXPECT_NEAR(k[1], n[trajectory.column("u1")], roundoff(largest, 7)) << "knot " << knot;
+    EXPECT_NEAR(k[2], n[trajectory.column("u2")], roundoff(largest, 7)) << "knot " << knot;
+  }
 }
 
 // A capped run: not converged (exit 2), the status says why, the files are still written.
