@@ -277,6 +277,9 @@ TEST(Pontryagin, FailuresAreNamedStatuses) {
     const auto r = baselines::solve_pontryagin(p, problem, o);
     EXPECT_EQ(r.summary.status, ShootingStatus::InvalidInput);
     EXPECT_NE(r.summary.message.find("rtol"), std::string::npos) << r.summary.message;
+    o.integration.rtol = 1e-10;
+    o.integration.max_steps = 0;
+    EXPECT_EQ(baselines::solve_pontryagin(p, problem, o).summary.status, ShootingStatus::InvalidInput);
   }
 }
 
