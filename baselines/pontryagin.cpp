@@ -185,7 +185,13 @@ PontryaginEvaluation PendulumShootingFunction::evaluate(const Vec6& lambda0, boo
   const bool sens = jacobian && method == ShootingJacobian::Sensitivities;
   Eigen::MatrixXd S0 = Eigen::MatrixXd::Zero(Ode::kDim, sens ? 6 : 0);
   if (sens) S0.middleRows<6>(Ode::kLambdaR).setIdentity();
-  const SensitivityResult run = integrate_sensitivities(ode_, y0, S0, 0.0, problem_.t_final, integration_);
+  SensitivityResult run;
+  try {
+    run = integrate_sensitivities(ode_, y0, S0, 0.0, problem_.t_final, integration_);
+  } catch (const InvalidInput& error) {  // settings the constructor does not check (atol, max_steps)
+    e.message = error.what();
+    return e;
+  }
   e.stats = run.stats;
   if (!run.ok()) {
     e.message = run.stats.brief();
@@ -276,7 +282,10 @@ ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::T
     if (!(o.armijo > 0.0 && o.armijo < 1.0)) throw InvalidInput("armijo", "must lie in (0, 1)");
     if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance)) throw InvalidInput("tolerance", "must be finite and >= 0");
     if (o.polish_iterations < 0) throw InvalidInput("polish_iterations", "must be >= 0");
-    if (o.integration.atol && !(*o.integration.atol > 0.0)) throw InvalidInput("atol", "must be > 0");
+    if (o.integration.atol && !(*o.integration.atol > 0.0 && std::isfinite(*o.integration.atol))) {
+      throw InvalidInput("atol", "must be finite and > 0");
+    }
+    if (o.integration.max_steps == 0) throw InvalidInput("max_steps", "must be > 0");
   } catch (const InvalidInput& e) {
     S.status = ocp::ShootingStatus::InvalidInput;
     S.message = e.what();

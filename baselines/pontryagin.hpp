@@ -99,7 +99,7 @@ enum class ShootingJacobian {
 const char* to_string(ShootingJacobian j);
 
 /// Default violation tolerance per unit of rtol: the computed residual carries the integration's
-/// global error, a modest multiple of rtol (README: measured 1..100 rtol); Newton cannot
+/// global error, a modest multiple of rtol (measured floors 4..17 rtol, baselines/README.md); Newton cannot
 /// resolve r below its noise, so the tolerance is kViolationPerRtol * rtol.
 inline constexpr double kViolationPerRtol = 100.0;
 

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <iostream>
 #include <random>
+#include <vector>
 
 #include "baselines/pontryagin.hpp"
 #include "lgvi/ocp/indirect.hpp"
@@ -203,6 +204,34 @@ TEST(Pontryagin, ViolationFollowsTheIntegrationTolerance) {
   }
 }
 
+// The continuous conditions are the limit of the discrete ones: from the same lambda(0), the
+// symmetric discrete sweep's terminal residual and Psi12 = d[eta; dPi]_N / dlambda_0
+// (lgvi/ocp/indirect.hpp) approach the continuous r and Psi at second order in h.
+TEST(Pontryagin, DiscreteSweepConvergesToTheContinuousOneAtSecondOrder) {
+  const Pendulum3D p = Pendulum3D::paper();
+  const TransferProblem problem = TransferProblem::pendulum_paper();
+  baselines::SensitivitySettings s;
+  s.rtol = 1e-12;
+  const baselines::PendulumShootingFunction fn(p, problem, {}, s);
+  const Vec6 lambda = Vec6::Ones();
+  const auto c = fn.evaluate(lambda, true);
+  ASSERT_TRUE(c.ok) << c.message;
+  std::vector<double> e_psi, e_r;
+  for (const double h : {0.01, 0.005, 0.0025}) {
+    const ocp::StateMultiplierFlow<ocp::PendulumModel> flow(p, problem, LgviForm::Symmetric, h, {});
+    ocp::StateMultiplierFlow<ocp::PendulumModel>::Sweep sweep;
+    ASSERT_TRUE(flow.run(lambda, true, sweep));
+    e_psi.push_back((sweep.Psi12 - c.Psi).norm() / c.Psi.norm());
+    e_r.push_back((sweep.residual - c.residual).norm() / c.residual.norm());
+    std::cout << "[ measured ] h = " << h << ": |Psi12 - Psi| / |Psi| = " << e_psi.back()
+              << ", |r_h - r| / |r| = " << e_r.back() << ", cost " << sweep.cost << " vs " << c.cost << "\n";
+  }
+  for (std::size_t i = 0; i + 1 < e_psi.size(); ++i) {
+    EXPECT_NEAR(std::log2(e_psi[i] / e_psi[i + 1]), 2.0, kSensOrderTolerance);
+    EXPECT_NEAR(std::log2(e_r[i] / e_r[i + 1]), 2.0, kSensOrderTolerance);
+  }
+}
+
 // The differences Jacobian reaches the same optimum.
 TEST(Pontryagin, FiniteDifferenceJacobianConverges) {
   ContinuousShootingOptions o;
@@ -277,6 +306,9 @@ TEST(Pontryagin, FailuresAreNamedStatuses) {
     const auto r = baselines::solve_pontryagin(p, problem, o);
     EXPECT_EQ(r.summary.status, ShootingStatus::InvalidInput);
     EXPECT_NE(r.summary.message.find("rtol"), std::string::npos) << r.summary.message;
+    o.integration.rtol = 1e-10;
+    o.integration.max_steps = 0;
+    EXPECT_EQ(baselines::solve_pontryagin(p, problem, o).summary.status, ShootingStatus::InvalidInput);
   }
 }
 
