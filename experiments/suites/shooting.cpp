@@ -6,7 +6,10 @@
 //   continuous  the same shooting on the initial costate of the continuous necessary
 //               conditions, integrated by CVODES (baselines/pontryagin.hpp), from the discrete
 //               solver's documented guess (all ones), from zero, and from the discrete solution
-//               (continuous_costate_from_discrete).
+//               (continuous_costate_from_discrete);
+//   direct      spline controls + SLSQP on the cart-pendulum transfer of section 4.1
+//               (lgvi/ocp/direct.hpp; one start from the default guess): its SQP iterates' history
+//               (no Newton matrix, so no condition numbers).
 // Expected outcomes (the harness's expectations, measured in lgvi/ocp/README.md and
 // tests/baselines/test_pontryagin.cpp): without the decomposition the full sensitivity of the
 // pendulum has rank 5 (the vertical momentum is conserved for every control; condition ~1e30
@@ -20,6 +23,7 @@
 // last iteration accepted and evaluated a step, a final row for the end point (step length,
 // backtracks, condition numbers and step norm nan: no Newton system is formed there). Summary: status, cost, violation, iterations, condition
 // ranges, wall time.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -27,7 +31,9 @@
 #include "experiments/csv_writer.hpp"
 #include "experiments/simulate.hpp"
 #include "experiments/suites/common.hpp"
+#include "lgvi/ocp/direct.hpp"
 #include "lgvi/ocp/indirect.hpp"
+#include "lgvi/systems/cart_pendulum.hpp"
 #include "lgvi/systems/dumbbell.hpp"
 #include "lgvi/systems/pendulum.hpp"
 
@@ -39,7 +45,7 @@ namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-enum class Solver { Discrete, Continuous };
+enum class Solver { Discrete, Continuous, Direct };
 enum class Guess { Ones, Zero, DiscreteSolution };
 
 const char* guess_name(Guess g) {
@@ -52,7 +58,7 @@ const char* guess_name(Guess g) {
 }
 
 struct ShootingSpec {
-  std::string system;  ///< "pendulum" or "dumbbell"
+  std::string system;  ///< "pendulum", "dumbbell" (indirect) or "cart-pendulum" (direct)
   Solver solver = Solver::Discrete;
   LgviForm form = LgviForm::Symmetric;  ///< discrete; and of the discrete solution a continuous run starts from
   std::size_t steps = 1000;             ///< discrete (and the discrete solution's)
@@ -63,6 +69,7 @@ struct ShootingSpec {
 
   /// Legend text; no commas (labels are summary.csv cells).
   std::string label() const {
+    if (solver == Solver::Direct) return "direct SLSQP on splines N = " + std::to_string(steps) + "; default guess";
     std::string l = solver == Solver::Discrete
                         ? std::string("discrete ") + (form == LgviForm::Symmetric ? "symmetric" : "printed") +
                               " LGVI N = " + std::to_string(steps)
@@ -71,6 +78,7 @@ struct ShootingSpec {
     return l + "; from " + guess_name(guess);
   }
   std::string id() const {
+    if (solver == Solver::Direct) return system + "-direct-n" + std::to_string(steps);
     std::string i = system + "-" + (solver == Solver::Discrete ? "discrete-" : "continuous-");
     if (solver == Solver::Discrete) {
       i += std::string(form == LgviForm::Symmetric ? "symmetric" : "printed") + "-n" + std::to_string(steps) + "-";
@@ -115,13 +123,30 @@ std::size_t write_history(const fs::path& file, const ocp::ShootingSummary& S, c
   return csv.rows();
 }
 
+/// The direct method's history: one row per SQP iterate (gradient evaluation) of the reported
+/// start, its evaluation index as the count; step lengths and condition numbers do not exist.
+void write_direct_history(const fs::path& file, const ocp::DirectSummary& S, const Fields& metadata) {
+  CsvWriter csv(file, {"iteration", "violation", "cost", "step_length", "backtracks", "cond_sensitivity",
+                       "cond_inverted", "step_norm", "evaluations", "seconds"});
+  int iterate = 0;
+  for (const ocp::DirectIteration& r : S.history) {
+    if (!r.gradient || r.start != S.best_start) continue;
+    const double row[] = {double(iterate++), r.violation, r.cost, kNan, kNan, kNan, kNan, kNan,
+                          double(r.evaluation), r.seconds};
+    csv.write_row(row);
+  }
+  csv.commit(metadata);
+}
+
 class ShootingJob final : public Job {
  public:
   explicit ShootingJob(ShootingSpec spec) : spec_(std::move(spec)) {}
 
   void validate(const fs::path&) const override {
-    if (spec_.system != "pendulum" && spec_.system != "dumbbell") {
-      throw InvalidInput("system", "shooting cases: pendulum or dumbbell (got '" + spec_.system + "')");
+    if ((spec_.solver == Solver::Direct) != (spec_.system == "cart-pendulum") ||
+        (spec_.system != "pendulum" && spec_.system != "dumbbell" && spec_.system != "cart-pendulum")) {
+      throw InvalidInput("system", "shooting cases: pendulum or dumbbell (indirect), cart-pendulum (direct); got '" +
+                                       spec_.system + "'");
     }
     if (spec_.solver == Solver::Continuous && spec_.system != "pendulum") {
       throw InvalidInput("system", "the continuous necessary conditions are written for the pendulum only");
@@ -130,6 +155,7 @@ class ShootingJob final : public Job {
   }
 
   JobResult run(const JobContext& ctx) const override {
+    if (spec_.solver == Solver::Direct) return run_direct(ctx);
     const ocp::TransferProblem problem =
         spec_.system == "pendulum" ? ocp::TransferProblem::pendulum_paper() : ocp::TransferProblem::dumbbell_paper();
     Fields f = {{"system", spec_.system},
@@ -207,6 +233,38 @@ class ShootingJob final : public Job {
   }
 
  private:
+  JobResult run_direct(const JobContext& ctx) const {
+    const ocp::CartPendulumTransfer problem = ocp::CartPendulumTransfer::paper();
+    ocp::DirectOptions o;
+    o.h = problem.t_final / static_cast<double>(spec_.steps);
+    o.starts = 1;
+    const ocp::DirectSummary S = ocp::solve_direct(CartPendulum::paper(), problem, o).summary;
+    Fields f = {{"system", spec_.system},
+                {"label", spec_.label()},
+                {"solver", std::string("direct")},
+                {"guess", std::string("default")},
+                {"t_final", problem.t_final},
+                {"form", std::string(to_string(o.form))},
+                {"h", o.h},
+                {"steps", static_cast<std::int64_t>(spec_.steps)},
+                {"tolerance", o.tolerance},
+                {"cost", S.cost},
+                {"violation", S.violation},
+                {"iterations", static_cast<std::int64_t>(S.iterations)},
+                {"inner_iterations", static_cast<std::int64_t>(S.evaluations - S.iterations)},
+                {"sweeps", static_cast<std::int64_t>(S.simulations)},
+                {"wall_seconds", S.wall_seconds},
+                {"shooting_status", std::string(to_string(S.status))},
+                {"csv_path", ctx.case_id + ".csv"}};
+    Fields meta = {{"suite", std::string("shooting")}, {"status", std::string(to_string(S.status))},
+                   {"message", S.message}, {"nlopt_result", S.nlopt_result}};
+    meta.insert(meta.end(), f.begin(), f.end());
+    meta.push_back({"git_describe", std::string(git_describe())});
+    meta.push_back({"command_line", ctx.command_line});
+    write_direct_history(ctx.out_dir / (ctx.case_id + ".csv"), S, meta);
+    return {S.converged(), S.converged() ? "completed" : to_string(S.status), S.brief(), std::move(f)};
+  }
+
   ShootingSpec spec_;
 };
 
@@ -263,9 +321,18 @@ Suite shooting_suite(const SuiteParams& params) {
       add(c, Expectation::Complete);
     }
   }
-  // Dumbbell (no symmetry; ~175 outer iterations, lgvi/ocp/README.md): full form only.
-  if (!quick) {
-    for (const std::size_t steps : {100, 1000}) {
+  // Direct: the cart-pendulum of section 4.1 (~220 SQP iterations, 0.4 s).
+  {
+    ShootingSpec d;
+    d.system = "cart-pendulum";
+    d.solver = Solver::Direct;
+    d.steps = 200;  // h = 0.01, the method's default
+    add(d, Expectation::Complete);
+  }
+  // Dumbbell (no symmetry; ~175 outer iterations, lgvi/ocp/README.md): 100 steps (0.4 s), and the
+  // command's default 1000 steps (3 s) in the full form.
+  {
+    for (const std::size_t steps : quick ? std::vector<std::size_t>{100} : std::vector<std::size_t>{100, 1000}) {
       ShootingSpec d;
       d.system = "dumbbell";
       d.form = LgviForm::Printed;
@@ -281,9 +348,13 @@ Suite shooting_suite(const SuiteParams& params) {
     for (const auto& [system, members] : by_group(rows)) {
       files.push_back(plot_iterations(ctx, system + "-violation.png",
                                       system + ": terminal violation against the outer iteration",
-                                      system == "pendulum" ? "|r| = |[log(R_f^T R(T)); Ω(T) - Ω_f]| [rad, rad/s]"
-                                                           : "|r| [normalized: rad, length, rad/time, length/time]",
+                                      system == "pendulum"       ? "|r| = |[log(R_f^T R(T)); Ω(T) - Ω_f]| [rad, rad/s]"
+                                      : system == "cart-pendulum" ? "|terminal constraints| [rad, m, rad/s, m/s]"
+                                                                  : "|r| [normalized: rad, length, rad/time, length/time]",
                                       "violation", members));
+      const bool has_conditions = std::any_of(members.begin(), members.end(),
+                                              [](const SummaryRow* r) { return r->number("cond_max").has_value(); });
+      if (!has_conditions) continue;  // the direct method forms no Newton matrix
       files.push_back(plot_iterations(ctx, system + "-cond-inverted.png",
                                       system + ": condition number of the Newton matrix inverted (shape block when "
                                                "decomposed)",
@@ -294,19 +365,24 @@ Suite shooting_suite(const SuiteParams& params) {
     }
     std::string table =
         "# Shooting: indirect optimal-control solvers\n\n"
-        "Violation: |r| at the end; iterations: outer (inner = backtracks); sweeps: discrete sweeps or CVODES "
-        "integrations; cond: 2-norm condition number of the matrix inverted (range over iterations) and of the "
+        "Violation: |r| at the end; iterations: outer (inner = backtracks; direct: SQP iterates (inner = "
+        "line-search trials)); sweeps: discrete sweeps, CVODES integrations or LGVI simulations (direct); cond: 2-norm condition number of the matrix inverted (range over iterations) and of the "
         "full sensitivity.\n\n"
         "| system | solver | expected | status | as expected | cost | violation | outer/inner | sweeps | cond "
         "(inverted) | cond (full) | seconds |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const SummaryRow& r : rows) {
       const auto num = [&](const char* c) { return r.number(c) ? fmt(*r.number(c)) : std::string(); };
+      const auto range = [&](const char* lo, const char* hi) {
+        return r.number(lo) && r.number(hi) ? fmt(*r.number(lo)) + ".." + fmt(*r.number(hi)) : std::string();
+      };
+      char cost[32] = "";
+      if (r.number("cost")) std::snprintf(cost, sizeof cost, "%.7g", *r.number("cost"));
       const std::string sweeps = r.text("integrations").empty() ? r.text("sweeps") : r.text("integrations");
       table += "| " + r.text("group") + " | " + r.text("label") + " | " + r.text("expected") + " | " +
-               r.text("status") + " | " + r.text("as_expected") + " | " + num("cost") + " | " + num("violation") +
+               r.text("status") + " | " + r.text("as_expected") + " | " + cost + " | " + num("violation") +
                " | " + r.text("iterations") + "/" + r.text("inner_iterations") + " | " + sweeps + " | " +
-               num("cond_min") + ".." + num("cond_max") + " | " + num("cond_full_min") + ".." + num("cond_full_max") +
-               " | " + num("wall_seconds") + " |\n";
+               range("cond_min", "cond_max") + " | " + range("cond_full_min", "cond_full_max") + " | " +
+               num("wall_seconds") + " |\n";
     }
     files.push_back(write_text_file(ctx, "shooting-table.md", table));
     return files;
