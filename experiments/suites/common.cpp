@@ -153,6 +153,26 @@ fs::path plot_time_series(const RenderContext& ctx, const std::string& png_name,
   return png;
 }
 
+fs::path plot_iterations(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+                         const std::string& ylabel, const std::string& column, const std::vector<const SummaryRow*>& rows) {
+  std::vector<Curve> curves;
+  for (const SummaryRow* r : rows) {
+    const fs::path csv = ctx.data_dir / r->text("csv_path");
+    std::error_code ec;
+    if (r->text("csv_path").empty() || !fs::is_regular_file(csv, ec)) continue;
+    std::string label = r->text("label");
+    if (r->text("status") != "completed") label += " [" + r->text("status") + "]";
+    curves.push_back({csv, label});
+  }
+  if (curves.empty()) return {};
+  const fs::path png = ctx.out_dir / png_name;
+  const TempPath list(png.string() + ".curves");
+  write_curve_list(list, curves);
+  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "iteration_history.gp", png,
+                     {title, "outer (Newton) iteration", ylabel, list.path().string(), column});
+  return png;
+}
+
 fs::path plot_xy(const RenderContext& ctx, const std::string& png_name, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel, const std::vector<XyCurve>& curves) {
   const fs::path png = ctx.out_dir / png_name;

@@ -59,6 +59,13 @@ std::filesystem::path plot_time_series(const RenderContext& ctx, const std::stri
                                        const std::string& ylabel, const std::string& column, bool log_x,
                                        const std::vector<const SummaryRow*>& rows);
 
+/// A figure of one column of iteration-history CSVs (column "iteration" on x, |column| on a log
+/// y axis; gnuplot script iteration_history.gp), one curve per row of `rows` with its csv_path
+/// and label (the status appended when it is not "completed").
+std::filesystem::path plot_iterations(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+                                      const std::string& ylabel, const std::string& column,
+                                      const std::vector<const SummaryRow*>& rows);
+
 /// One curve of an x-y figure: points in drawing order.
 struct XyCurve {
   std::string label;
@@ -84,6 +91,10 @@ Suite orthogonality_suite(const SuiteParams& params);
 Suite momentum_suite(const SuiteParams& params);
 Suite work_precision_suite(const SuiteParams& params);
 Suite extremes_suite(const SuiteParams& params);
+/// Optimal control (experiments/suites/sensitivity.cpp, shooting.cpp).
+Suite sensitivity_suite(const SuiteParams& params);
+const std::vector<std::string>& sensitivity_columns();
+Suite shooting_suite(const SuiteParams& params);
 /// Every suite above, cases prefixed "<suite>/" (one subdirectory per suite), each rendered by
 /// its own renderer.
 Suite all_suite(const SuiteParams& params);

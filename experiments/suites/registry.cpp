@@ -22,6 +22,10 @@ const std::vector<SuiteEntry>& suite_registry() {
        suites::work_precision_suite},
       {"extremes", "where methods break: large h|Omega|, fast spin, near-flat inertia, tiny steps, gimbal lock",
        suites::extremes_suite},
+      {"sensitivity", "transition matrices: LGVI linearization and CVODES vs finite differences and each other, over T",
+       suites::sensitivity_suite},
+      {"shooting", "indirect optimal control: convergence histories and condition numbers, discrete vs continuous, "
+                   "decomposed vs not", suites::shooting_suite},
       {"all", "every suite above, one subdirectory each (the README's main command runs it with --quick)",
        suites::all_suite},
   };

@@ -38,7 +38,8 @@ Suite suite(const std::string& name, bool quick) {
   return experiments::make_suite(name, SuiteParams{quick, experiments::default_scenes_dir()});
 }
 
-const std::vector<std::string> kSuites = {"energy-drift", "orthogonality", "momentum", "work-precision", "extremes"};
+const std::vector<std::string> kSuites = {"energy-drift", "orthogonality", "momentum", "work-precision", "extremes",
+                                          "sensitivity", "shooting"};
 
 // --- case lists ----------------------------------------------------------------------------------
 

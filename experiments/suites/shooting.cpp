@@ -1,0 +1,393 @@
+// "shooting": convergence histories and condition numbers of the indirect optimal-control
+// solvers on the paper's transfers (TransferProblem::pendulum_paper(), dumbbell_paper()):
+//   discrete    Newton-Armijo shooting on the initial multiplier of the discrete necessary
+//               conditions (lgvi/ocp/indirect.hpp), symmetric and printed LGVI, with and
+//               without the pendulum's symmetry decomposition;
+//   continuous  the same shooting on the initial costate of the continuous necessary
+//               conditions, integrated by CVODES (baselines/pontryagin.hpp), from the discrete
+//               solver's documented guess (all ones), from zero, and from the discrete solution
+//               (continuous_costate_from_discrete);
+//   direct      spline controls + SLSQP on the cart-pendulum transfer of section 4.1
+//               (lgvi/ocp/direct.hpp; one start from the default guess): its SQP iterates' history
+//               (no Newton matrix, so no condition numbers).
+// Expected outcomes (the harness's expectations, measured in lgvi/ocp/README.md and
+// tests/baselines/test_pontryagin.cpp): without the decomposition the full sensitivity of the
+// pendulum has rank 5 (the vertical momentum is conserved for every control; condition ~1e30
+// discrete, ~1/rtol or worse continuous) and the line search fails; from lambda(0) = 0 the
+// pendulum stays at rest with u = 0 and the linearization cannot turn it about the vertical.
+// Those cases must fail; the others must converge.
+//
+// Per case: <id>.csv, the iteration history (one row per outer iteration, at its start: violation,
+// cost, accepted step length, backtracks, condition numbers of the full sensitivity and of the
+// matrix inverted, Newton step norm, cumulative sweeps/integrations and seconds), plus, when the
+// last iteration accepted and evaluated a step, a final row for the end point (step length,
+// backtracks, condition numbers and step norm nan: no Newton system is formed there). Summary: status, cost, violation, iterations, condition
+// ranges, wall time.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "baselines/pontryagin.hpp"
+#include "experiments/csv_writer.hpp"
+#include "experiments/simulate.hpp"
+#include "experiments/suites/common.hpp"
+#include "lgvi/ocp/direct.hpp"
+#include "lgvi/ocp/indirect.hpp"
+#include "lgvi/systems/cart_pendulum.hpp"
+#include "lgvi/systems/dumbbell.hpp"
+#include "lgvi/systems/pendulum.hpp"
+
+namespace lgvi::experiments::suites {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+enum class Solver { Discrete, Continuous, Direct };
+enum class Guess { Ones, Zero, DiscreteSolution };
+
+const char* guess_name(Guess g) {
+  switch (g) {
+    case Guess::Ones: return "ones";
+    case Guess::Zero: return "zero";
+    case Guess::DiscreteSolution: return "discrete-solution";
+  }
+  return "?";
+}
+
+struct ShootingSpec {
+  std::string system;  ///< "pendulum", "dumbbell" (indirect) or "cart-pendulum" (direct)
+  Solver solver = Solver::Discrete;
+  LgviForm form = LgviForm::Symmetric;  ///< discrete; and of the discrete solution a continuous run starts from
+  std::size_t steps = 1000;             ///< discrete (and the discrete solution's)
+  double rtol = 1e-10;                  ///< continuous
+  bool decomposition = true;
+  Guess guess = Guess::Ones;
+  int max_iterations = 100;
+
+  /// Legend text; no commas (labels are summary.csv cells).
+  std::string label() const {
+    if (solver == Solver::Direct) return "direct SLSQP on splines N = " + std::to_string(steps) + "; default guess";
+    std::string l = solver == Solver::Discrete
+                        ? std::string("discrete ") + (form == LgviForm::Symmetric ? "symmetric" : "printed") +
+                              " LGVI N = " + std::to_string(steps)
+                        : "continuous CVODES rtol " + shortest(rtol);
+    if (system == "pendulum") l += decomposition ? "; decomposed" : "; not decomposed";
+    return l + "; from " + guess_name(guess);
+  }
+  std::string id() const {
+    if (solver == Solver::Direct) return system + "-direct-n" + std::to_string(steps);
+    std::string i = system + "-" + (solver == Solver::Discrete ? "discrete-" : "continuous-");
+    if (solver == Solver::Discrete) {
+      i += std::string(form == LgviForm::Symmetric ? "symmetric" : "printed") + "-n" + std::to_string(steps) + "-";
+    } else {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "rtol%.0e-", rtol);
+      i += buf;
+    }
+    if (system == "pendulum") i += decomposition ? "decomposed-" : "full-";
+    return i + guess_name(guess);
+  }
+};
+
+ocp::ShootingOptions discrete_options(const ShootingSpec& s, const ocp::TransferProblem& problem) {
+  ocp::ShootingOptions o;
+  o.form = s.form;
+  o.h = problem.t_final / static_cast<double>(s.steps);
+  o.decomposition = s.decomposition;
+  o.max_iterations = s.max_iterations;
+  const int n = s.system == "pendulum" ? 6 : 12;
+  o.initial_multiplier = s.guess == Guess::Ones ? Eigen::VectorXd::Ones(n) : Eigen::VectorXd::Zero(n);
+  return o;
+}
+
+/// Writes the history CSV; returns the number of rows.
+std::size_t write_history(const fs::path& file, const ocp::ShootingSummary& S, const Fields& metadata,
+                          const std::string& count_name) {
+  CsvWriter csv(file, {"iteration", "violation", "cost", "step_length", "backtracks", "cond_sensitivity",
+                       "cond_inverted", "step_norm", count_name, "seconds"});
+  for (const ocp::IterationRecord& r : S.history) {
+    const double row[] = {double(r.iteration), r.violation,        r.cost,      r.step_length,   double(r.backtracks),
+                          r.cond_sensitivity,  r.cond_inverted,    r.step_norm, double(r.sweeps), r.seconds};
+    csv.write_row(row);
+  }
+  // The end point, when it is a new point (the last iteration accepted a step and evaluated it).
+  if (S.history.empty() || (S.history.back().step_length > 0.0 && S.violation != S.history.back().violation)) {
+    const double it = S.history.empty() ? 0.0 : S.history.back().iteration + 1.0;
+    const double row[] = {it, S.violation, S.cost, kNan, kNan, kNan, kNan, kNan, double(S.sweeps), S.wall_seconds};
+    csv.write_row(row);
+  }
+  csv.commit(metadata);
+  return csv.rows();
+}
+
+/// The direct method's history: one row per SQP iterate (gradient evaluation) of the reported
+/// start, its evaluation index as the count; step lengths and condition numbers do not exist.
+void write_direct_history(const fs::path& file, const ocp::DirectSummary& S, const Fields& metadata) {
+  CsvWriter csv(file, {"iteration", "violation", "cost", "step_length", "backtracks", "cond_sensitivity",
+                       "cond_inverted", "step_norm", "evaluations", "seconds"});
+  int iterate = 0;
+  for (const ocp::DirectIteration& r : S.history) {
+    if (!r.gradient || r.start != S.best_start) continue;
+    const double row[] = {double(iterate++), r.violation, r.cost, kNan, kNan, kNan, kNan, kNan,
+                          double(r.evaluation), r.seconds};
+    csv.write_row(row);
+  }
+  csv.commit(metadata);
+}
+
+class ShootingJob final : public Job {
+ public:
+  explicit ShootingJob(ShootingSpec spec) : spec_(std::move(spec)) {}
+
+  void validate(const fs::path&) const override {
+    if ((spec_.solver == Solver::Direct) != (spec_.system == "cart-pendulum") ||
+        (spec_.system != "pendulum" && spec_.system != "dumbbell" && spec_.system != "cart-pendulum")) {
+      throw InvalidInput("system", "shooting cases: pendulum or dumbbell (indirect), cart-pendulum (direct); got '" +
+                                       spec_.system + "'");
+    }
+    if (spec_.solver == Solver::Continuous && spec_.system != "pendulum") {
+      throw InvalidInput("system", "the continuous necessary conditions are written for the pendulum only");
+    }
+    if (spec_.steps == 0 || !(spec_.rtol > 0.0)) throw InvalidInput("shooting", "steps and rtol must be positive");
+  }
+
+  JobResult run(const JobContext& ctx) const override {
+    if (spec_.solver == Solver::Direct) return run_direct(ctx);
+    const ocp::TransferProblem problem =
+        spec_.system == "pendulum" ? ocp::TransferProblem::pendulum_paper() : ocp::TransferProblem::dumbbell_paper();
+    Fields f = {{"system", spec_.system},
+                {"label", spec_.label()},
+                {"solver", std::string(spec_.solver == Solver::Discrete ? "discrete" : "continuous")},
+                {"decomposition", spec_.decomposition},
+                {"guess", std::string(guess_name(spec_.guess))},
+                {"t_final", problem.t_final}};
+    ocp::ShootingSummary S;
+    std::string count_name = "sweeps";
+    std::optional<ocp::ShootingSummary> start;  // the discrete solution a continuous run starts from
+    if (spec_.solver == Solver::Discrete) {
+      const ocp::ShootingOptions o = discrete_options(spec_, problem);
+      f.push_back({"form", std::string(to_string(spec_.form))});
+      f.push_back({"h", o.h});
+      f.push_back({"steps", static_cast<std::int64_t>(spec_.steps)});
+      S = spec_.system == "pendulum" ? ocp::solve_indirect(Pendulum3D::paper(), problem, o).summary
+                                     : ocp::solve_indirect(DumbbellSpacecraft::paper(), problem, o).summary;
+      f.push_back({"tolerance", o.tolerance});
+    } else {
+      baselines::ContinuousShootingOptions o;
+      o.integration.rtol = spec_.rtol;
+      o.decomposition = spec_.decomposition;
+      o.max_iterations = spec_.max_iterations;
+      if (spec_.guess == Guess::Ones) {
+        o.initial_costate = Eigen::VectorXd::Ones(6);
+      } else if (spec_.guess == Guess::DiscreteSolution) {
+        ShootingSpec d = spec_;
+        d.solver = Solver::Discrete;
+        d.guess = Guess::Ones;
+        d.decomposition = true;
+        start = ocp::solve_indirect(Pendulum3D::paper(), problem, discrete_options(d, problem)).summary;
+        if (!start->converged()) {
+          return {false, "start-failed", "the discrete solution to start from: " + start->brief(), f};
+        }
+        o.initial_costate = baselines::continuous_costate_from_discrete(start->multiplier);
+        f.push_back({"start", d.label() + ": " + start->brief()});
+      }
+      const baselines::ContinuousShootingResult r = baselines::solve_pontryagin(Pendulum3D::paper(), problem, o);
+      S = r.summary;
+      count_name = "integrations";
+      f.push_back({"rtol", spec_.rtol});
+      f.push_back({"tolerance", r.tolerance});
+      f.push_back({"integrations", static_cast<std::int64_t>(r.integrations)});
+      f.push_back({"integration_steps", static_cast<std::int64_t>(r.integration_steps)});
+      f.push_back({"rhs_evaluations", static_cast<std::int64_t>(r.rhs_evaluations)});
+    }
+    f.push_back({"cost", S.cost});
+    f.push_back({"violation", S.violation});
+    f.push_back({"iterations", static_cast<std::int64_t>(S.iterations)});
+    f.push_back({"inner_iterations", static_cast<std::int64_t>(S.inner_iterations)});
+    f.push_back({"sweeps", static_cast<std::int64_t>(S.sweeps)});
+    f.push_back({"cond_min", S.cond_min});
+    f.push_back({"cond_max", S.cond_max});
+    f.push_back({"cond_full_min", S.cond_full_min});
+    f.push_back({"cond_full_max", S.cond_full_max});
+    f.push_back({"first_cond_full", S.history.empty() ? kNan : S.history.front().cond_sensitivity});
+    f.push_back({"wall_seconds", S.wall_seconds});
+    f.push_back({"shooting_status", std::string(to_string(S.status))});
+    f.push_back({"csv_path", ctx.case_id + ".csv"});
+
+    Fields meta = {{"suite", std::string("shooting")}, {"status", std::string(to_string(S.status))},
+                   {"message", S.message}};
+    meta.insert(meta.end(), f.begin(), f.end());
+    meta.push_back({"git_describe", std::string(git_describe())});
+    meta.push_back({"command_line", ctx.command_line});
+    write_history(ctx.out_dir / (ctx.case_id + ".csv"), S, meta, count_name);
+
+    JobResult out;
+    out.completed = S.converged();
+    out.status = S.converged() ? "completed" : to_string(S.status);
+    out.detail = S.brief();  // names the failure and its message
+    out.fields = std::move(f);
+    return out;
+  }
+
+ private:
+  JobResult run_direct(const JobContext& ctx) const {
+    const ocp::CartPendulumTransfer problem = ocp::CartPendulumTransfer::paper();
+    ocp::DirectOptions o;
+    o.h = problem.t_final / static_cast<double>(spec_.steps);
+    o.starts = 1;
+    const ocp::DirectSummary S = ocp::solve_direct(CartPendulum::paper(), problem, o).summary;
+    Fields f = {{"system", spec_.system},
+                {"label", spec_.label()},
+                {"solver", std::string("direct")},
+                {"guess", std::string("default")},
+                {"t_final", problem.t_final},
+                {"form", std::string(to_string(o.form))},
+                {"h", o.h},
+                {"steps", static_cast<std::int64_t>(spec_.steps)},
+                {"tolerance", o.tolerance},
+                {"cost", S.cost},
+                {"violation", S.violation},
+                {"iterations", static_cast<std::int64_t>(S.iterations)},
+                {"inner_iterations", static_cast<std::int64_t>(S.evaluations - S.iterations)},
+                {"sweeps", static_cast<std::int64_t>(S.simulations)},
+                {"wall_seconds", S.wall_seconds},
+                {"shooting_status", std::string(to_string(S.status))},
+                {"csv_path", ctx.case_id + ".csv"}};
+    Fields meta = {{"suite", std::string("shooting")}, {"status", std::string(to_string(S.status))},
+                   {"message", S.message}, {"nlopt_result", S.nlopt_result}};
+    meta.insert(meta.end(), f.begin(), f.end());
+    meta.push_back({"git_describe", std::string(git_describe())});
+    meta.push_back({"command_line", ctx.command_line});
+    write_direct_history(ctx.out_dir / (ctx.case_id + ".csv"), S, meta);
+    return {S.converged(), S.converged() ? "completed" : to_string(S.status), S.brief(), std::move(f)};
+  }
+
+  ShootingSpec spec_;
+};
+
+}  // namespace
+
+Suite shooting_suite(const SuiteParams& params) {
+  Suite s;
+  s.name = "shooting";
+  s.description = "convergence histories and condition numbers of the indirect solvers: discrete vs continuous, "
+                  "decomposed vs not";
+  s.columns = {"system",     "label",     "solver",        "form",          "h",
+               "steps",      "rtol",      "decomposition", "guess",         "shooting_status",
+               "cost",       "violation", "tolerance",     "iterations",    "inner_iterations",
+               "sweeps",     "integrations", "cond_min",   "cond_max",      "cond_full_min",
+               "cond_full_max", "first_cond_full", "wall_seconds", "csv_path"};
+  const bool quick = params.quick;
+  const auto add = [&](const ShootingSpec& spec, Expectation e) {
+    SuiteCase c;
+    c.id = spec.id();
+    c.group = spec.system;
+    c.labels = {{"system", spec.system}, {"label", spec.label()}};
+    c.expect = e;
+    c.job = std::make_shared<ShootingJob>(spec);
+    s.cases.push_back(std::move(c));
+  };
+
+  // Pendulum, the paper's h = 0.001 (1000 steps).
+  std::vector<LgviForm> forms = {LgviForm::Symmetric};
+  if (!quick) forms.push_back(LgviForm::Printed);
+  for (const LgviForm form : forms) {
+    for (const bool decomposition : {true, false}) {
+      ShootingSpec d;
+      d.system = "pendulum";
+      d.form = form;
+      d.decomposition = decomposition;
+      add(d, decomposition ? Expectation::Complete : Expectation::Fail);
+    }
+  }
+  {
+    ShootingSpec c;
+    c.system = "pendulum";
+    c.solver = Solver::Continuous;
+    add(c, Expectation::Complete);
+    c.guess = Guess::Zero;
+    add(c, Expectation::Fail);
+    c.guess = Guess::DiscreteSolution;
+    add(c, Expectation::Complete);
+    c.guess = Guess::Ones;
+    c.decomposition = false;
+    add(c, Expectation::Fail);
+    if (!quick) {
+      c.decomposition = true;
+      c.rtol = 1e-8;
+      add(c, Expectation::Complete);
+    }
+  }
+  // Direct: the cart-pendulum of section 4.1 (~220 SQP iterations, 0.4 s).
+  {
+    ShootingSpec d;
+    d.system = "cart-pendulum";
+    d.solver = Solver::Direct;
+    d.steps = 200;  // h = 0.01, the method's default
+    add(d, Expectation::Complete);
+  }
+  // Dumbbell (no symmetry; ~175 outer iterations, lgvi/ocp/README.md): 100 steps (0.4 s), and the
+  // command's default 1000 steps (3 s) in the full form.
+  {
+    for (const std::size_t steps : quick ? std::vector<std::size_t>{100} : std::vector<std::size_t>{100, 1000}) {
+      ShootingSpec d;
+      d.system = "dumbbell";
+      d.form = LgviForm::Printed;
+      d.steps = steps;
+      d.guess = Guess::Zero;
+      d.max_iterations = 300;
+      add(d, Expectation::Either);  // converged, or stalled at the round-off floor (README)
+    }
+  }
+
+  s.render = [](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
+    std::vector<fs::path> files;
+    for (const auto& [system, members] : by_group(rows)) {
+      files.push_back(plot_iterations(ctx, system + "-violation.png",
+                                      system + ": terminal violation against the outer iteration",
+                                      system == "pendulum"       ? "|r| = |[log(R_f^T R(T)); Ω(T) - Ω_f]| [rad, rad/s]"
+                                      : system == "cart-pendulum" ? "|terminal constraints| [rad, m, rad/s, m/s]"
+                                                                  : "|r| [normalized: rad, length, rad/time, length/time]",
+                                      "violation", members));
+      const bool has_conditions = std::any_of(members.begin(), members.end(),
+                                              [](const SummaryRow* r) { return r->number("cond_max").has_value(); });
+      if (!has_conditions) continue;  // the direct method forms no Newton matrix
+      files.push_back(plot_iterations(ctx, system + "-cond-inverted.png",
+                                      system + ": condition number of the Newton matrix inverted (shape block when "
+                                               "decomposed)",
+                                      "2-norm condition number", "cond_inverted", members));
+      files.push_back(plot_iterations(ctx, system + "-cond-full.png",
+                                      system + ": condition number of the full sensitivity dr/dλ_0",
+                                      "2-norm condition number", "cond_sensitivity", members));
+    }
+    std::string table =
+        "# Shooting: indirect optimal-control solvers\n\n"
+        "Violation: |r| at the end; iterations: outer (inner = backtracks; direct: SQP iterates (inner = "
+        "line-search trials)); sweeps: discrete sweeps, CVODES integrations or LGVI simulations (direct); cond: 2-norm condition number of the matrix inverted (range over iterations) and of the "
+        "full sensitivity.\n\n"
+        "| system | solver | expected | status | as expected | cost | violation | outer/inner | sweeps | cond "
+        "(inverted) | cond (full) | seconds |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const SummaryRow& r : rows) {
+      const auto num = [&](const char* c) { return r.number(c) ? fmt(*r.number(c)) : std::string(); };
+      const auto range = [&](const char* lo, const char* hi) {
+        return r.number(lo) && r.number(hi) ? fmt(*r.number(lo)) + ".." + fmt(*r.number(hi)) : std::string();
+      };
+      char cost[32] = "";
+      if (r.number("cost")) std::snprintf(cost, sizeof cost, "%.7g", *r.number("cost"));
+      const std::string sweeps = r.text("integrations").empty() ? r.text("sweeps") : r.text("integrations");
+      table += "| " + r.text("group") + " | " + r.text("label") + " | " + r.text("expected") + " | " +
+               r.text("status") + " | " + r.text("as_expected") + " | " + cost + " | " + num("violation") +
+               " | " + r.text("iterations") + "/" + r.text("inner_iterations") + " | " + sweeps + " | " +
+               range("cond_min", "cond_max") + " | " + range("cond_full_min", "cond_full_max") + " | " +
+               num("wall_seconds") + " |\n";
+    }
+    files.push_back(write_text_file(ctx, "shooting-table.md", table));
+    return files;
+  };
+  return s;
+}
+
+}  // namespace lgvi::experiments::suites
