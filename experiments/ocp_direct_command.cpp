@@ -233,7 +233,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
   }
   if (S.knot_values.size() == static_cast<Eigen::Index>(Model::nu) * S.knots) {
     std::vector<std::string> cols = {"t"};
-    for (int i = 1; i <= Model::nu; ++i) cols.push_back("u" + std::to_string(i));
+    for (int i = 1; i <= Model::nu; ++i) cols.push_back(std::string("u").append(std::to_string(i)));
     CsvWriter csv(knots_file, cols);
     std::vector<double> row;
     for (int j = 0; j < S.knots; ++j) {
