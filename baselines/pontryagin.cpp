@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "lgvi/ocp/newton_armijo.hpp"
 #include "lgvi/so3.hpp"
 
 namespace lgvi::baselines {
@@ -28,14 +29,6 @@ Mat3 validated_weight(const Eigen::MatrixXd& W) {
   const Eigen::LLT<Mat3> llt(W3);
   if (llt.info() != Eigen::Success) throw InvalidInput("W", "is not positive definite");
   return W;
-}
-
-double condition_number(const Eigen::MatrixXd& A) {
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A);
-  const auto& s = svd.singularValues();
-  if (s.size() == 0) return 0.0;
-  const double smallest = s(s.size() - 1);
-  return smallest > 0.0 ? s(0) / smallest : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
@@ -295,15 +288,56 @@ ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::T
   S.multiplier_guess = lambda;
   S.multiplier = lambda;
 
-  auto evaluate = [&](const Vec6& l, bool jac) {
-    PontryaginEvaluation e = fn->evaluate(l, jac, o.jacobian);
-    result.integrations += (jac && o.jacobian == ShootingJacobian::FiniteDifferences) ? 13 : 1;
-    result.integration_steps += e.stats.steps;
-    result.rhs_evaluations += e.stats.rhs_evaluations;
-    return e;
-  };
+  // One shot is one integration of the state-costate ODE (13 with finite-difference Jacobians).
+  struct Integrations {
+    const Pendulum3D& system;
+    const PendulumShootingFunction& fn;
+    const ContinuousShootingOptions& o;
+    ContinuousShootingResult& result;
+    std::string failure;  // why the last failed evaluation failed
 
-  PontryaginEvaluation current = evaluate(lambda, true);
+    PontryaginEvaluation evaluate(const Vec6& l, bool jac) {
+      PontryaginEvaluation e = fn.evaluate(l, jac, o.jacobian);
+      result.integrations += (jac && o.jacobian == ShootingJacobian::FiniteDifferences) ? 13 : 1;
+      result.integration_steps += e.stats.steps;
+      result.rhs_evaluations += e.stats.rhs_evaluations;
+      return e;
+    }
+    // A failed evaluation leaves `out` alone: after a failed re-run the result reports the last
+    // successful one.
+    bool evaluate(const Vec6& l, bool jac, PontryaginEvaluation& out) {
+      PontryaginEvaluation e = evaluate(l, jac);
+      if (!e.ok) {
+        failure = e.message;
+        return false;
+      }
+      out = std::move(e);
+      return true;
+    }
+    std::pair<Mat6, Vec6> terminal_symmetry(const PontryaginEvaluation& current) const {
+      const Vec3 PiT = system.inertia.J * current.Omega_final;
+      return {fn.residual_jacobian(current.residual),
+              PendulumShootingFunction::conserved_gradient(current.R_final, PiT)};
+    }
+    // The integration's noise floor: r carries a global error of ~kViolationPerRtol rtol that
+    // changes non-smoothly with lambda (step selection); no Newton step resolves r below it.
+    double round_off_floor(const PontryaginEvaluation&, const Vec6&) const {
+      return kViolationPerRtol * o.integration.rtol;
+    }
+    std::string stall_message(double violation, int it, double floor, double) const {
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "no decrease below violation %.3g at outer iteration %d: that is the integration's noise floor "
+                    "(~%.2g at rtol %.3g), above the tolerance %.3g; tighten rtol or loosen the tolerance",
+                    violation, it, floor, o.integration.rtol, result.tolerance);
+      return buf;
+    }
+    std::string rerun_failure(const PontryaginEvaluation&) const {
+      return "re-running the accepted step with its Jacobian: " + failure;
+    }
+  } integrations{system, *fn, o, result, {}};
+
+  PontryaginEvaluation current = integrations.evaluate(lambda, true);
   S.sweeps = 1;
   if (!current.ok) {
     S.status = ocp::ShootingStatus::SweepFailed;
@@ -312,147 +346,19 @@ ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::T
     result.final = current;
     return result;
   }
-  double violation = current.residual.norm();
-  S.cost = current.cost;
-  S.violation = violation;
-  S.cond_min = S.cond_full_min = std::numeric_limits<double>::infinity();
-  S.cond_max = S.cond_full_max = 0.0;
-  const Vec3 Pi0 = system.inertia.J * problem.Omega0;
-  Mat6 V = Mat6::Identity();
+  ocp::NewtonArmijoOptions<6> newton;
+  newton.max_iterations = o.max_iterations;
+  newton.max_backtracks = o.max_backtracks;
+  newton.armijo = o.armijo;
+  newton.tolerance = tolerance;
+  newton.polish_iterations = o.polish_iterations;
+  newton.start = start;
   if (o.decomposition) {
-    const Eigen::HouseholderQR<Vec6> qr(PendulumShootingFunction::conserved_gradient(problem.R0, Pi0));
-    V = qr.householderQ();  // V.col(0) = +-v_g / |v_g|, the rest its orthogonal complement
+    const Vec3 Pi0 = system.inertia.J * problem.Omega0;
+    newton.initial_conserved_gradient = PendulumShootingFunction::conserved_gradient(problem.R0, Pi0);
   }
-
-  int polish_left = -1;
-  for (int it = 0;; ++it) {
-    ocp::IterationRecord rec;
-    rec.iteration = it;
-    rec.violation = violation;
-    rec.cost = current.cost;
-    if (violation <= tolerance) {
-      S.status = ocp::ShootingStatus::Converged;
-      if (polish_left < 0) polish_left = o.polish_iterations;
-      if (polish_left == 0) break;
-    } else if (it >= o.max_iterations) {
-      S.status = ocp::ShootingStatus::MaxIterations;
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "violation %.3g > tolerance %.3g after the limit of %d outer iterations",
-                    violation, tolerance, o.max_iterations);
-      S.message = buf;
-      break;
-    }
-    const Mat6& jac = current.jacobian;
-    const Vec6& r = current.residual;
-    rec.cond_sensitivity = condition_number(jac);
-    Vec6 direction;
-    if (o.decomposition) {
-      const Mat6 D = fn->residual_jacobian(r);
-      const Vec3 PiT = system.inertia.J * current.Omega_final;
-      const Vec6 u_g = D.transpose().partialPivLu().solve(PendulumShootingFunction::conserved_gradient(current.R_final, PiT));
-      const Eigen::HouseholderQR<Vec6> qr(u_g);
-      const Mat6 U = qr.householderQ();
-      const Mat6 blocks = U.transpose() * jac * V;
-      const Eigen::Matrix<double, 5, 5> shape = blocks.bottomRightCorner<5, 5>();
-      const double scale = blocks.norm();
-      rec.group_block = std::max(blocks.row(0).norm(), blocks.col(0).norm()) / (scale > 0.0 ? scale : 1.0);
-      const Vec6 r_rot = U.transpose() * r;
-      rec.group_residual = std::abs(r_rot(0));
-      rec.cond_inverted = condition_number(shape);
-      const Eigen::Matrix<double, 5, 1> sigma = -shape.partialPivLu().solve(r_rot.tail<5>());
-      direction = V.rightCols<5>() * sigma;
-    } else {
-      rec.cond_inverted = rec.cond_sensitivity;
-      direction = -jac.partialPivLu().solve(r);
-    }
-    rec.step_norm = direction.allFinite() ? direction.norm() : std::numeric_limits<double>::infinity();
-    S.cond_min = std::min(S.cond_min, rec.cond_inverted);
-    S.cond_max = std::max(S.cond_max, rec.cond_inverted);
-    S.cond_full_min = std::min(S.cond_full_min, rec.cond_sensitivity);
-    S.cond_full_max = std::max(S.cond_full_max, rec.cond_sensitivity);
-    if (!direction.allFinite()) {
-      S.status = ocp::ShootingStatus::SingularSensitivity;
-      char buf[256];
-      std::snprintf(buf, sizeof buf, "the Newton system at outer iteration %d has no finite solution (cond %.3g)", it,
-                    rec.cond_inverted);
-      S.message = buf;
-      rec.sweeps = S.sweeps;
-      rec.seconds = seconds();
-      S.history.push_back(rec);
-      break;
-    }
-    const bool polishing = polish_left > 0;
-    double t = 1.0;
-    bool accepted = false;
-    const int max_trials = polishing ? 1 : o.max_backtracks + 1;
-    for (int b = 0; b < max_trials; ++b) {
-      const Vec6 candidate = lambda + t * direction;
-      ++S.sweeps;
-      if (b > 0) ++S.inner_iterations;
-      rec.backtracks = b;
-      const PontryaginEvaluation trial = evaluate(candidate, false);
-      if (trial.ok) {
-        const double v = trial.residual.norm();
-        if (polishing ? v < violation : v <= (1.0 - o.armijo * t) * violation) {
-          lambda = candidate;
-          accepted = true;
-          break;
-        }
-      }
-      t *= 0.5;
-    }
-    rec.sweeps = S.sweeps;
-    if (!accepted) {
-      rec.step_length = 0.0;
-      rec.seconds = seconds();
-      S.history.push_back(rec);
-      if (polishing) break;
-      // The integration's noise floor: r carries a global error of ~kViolationPerRtol rtol that
-      // changes non-smoothly with lambda (step selection); no Newton step resolves r below it.
-      const double floor = kViolationPerRtol * o.integration.rtol;
-      char buf[400];
-      if (violation <= 10.0 * floor) {
-        S.status = ocp::ShootingStatus::Stalled;
-        std::snprintf(buf, sizeof buf,
-                      "no decrease below violation %.3g at outer iteration %d: that is the integration's noise floor "
-                      "(~%.2g at rtol %.3g), above the tolerance %.3g; tighten rtol or loosen the tolerance",
-                      violation, it, floor, o.integration.rtol, tolerance);
-      } else {
-        S.status = ocp::ShootingStatus::LineSearchFailed;
-        std::snprintf(buf, sizeof buf,
-                      "no sufficient decrease of the violation %.3g at outer iteration %d after %d step halvings "
-                      "(last t = %.3g)",
-                      violation, it, o.max_backtracks, 2.0 * t);
-      }
-      S.message = buf;
-      break;
-    }
-    rec.step_length = t;
-    ++S.sweeps;
-    rec.sweeps = S.sweeps;
-    PontryaginEvaluation next = evaluate(lambda, true);
-    if (!next.ok) {
-      S.status = ocp::ShootingStatus::SweepFailed;
-      S.message = "re-running the accepted step with its Jacobian: " + next.message;
-      rec.seconds = seconds();
-      S.history.push_back(rec);
-      break;
-    }
-    current = next;
-    violation = current.residual.norm();
-    ++S.iterations;
-    if (polishing) --polish_left;
-    rec.seconds = seconds();
-    S.history.push_back(rec);
-  }
-  S.cost = current.cost;
-  S.violation = violation;
-  S.residual = current.residual;
-  S.multiplier = lambda;
+  ocp::newton_armijo_shooting(integrations, newton, lambda, current, S);
   S.steps = current.stats.steps;
-  if (S.cond_min > S.cond_max) S.cond_min = S.cond_max = 0.0;
-  if (S.cond_full_min > S.cond_full_max) S.cond_full_min = S.cond_full_max = 0.0;
-  S.wall_seconds = seconds();
   result.final = current;
   return result;
 }

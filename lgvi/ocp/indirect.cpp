@@ -1,5 +1,7 @@
 #include "lgvi/ocp/indirect.hpp"
 
+#include "lgvi/ocp/newton_armijo.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -117,14 +119,6 @@ Eigen::Matrix<double, N, N> validated_weight(const Eigen::MatrixXd& W) {
     throw InvalidInput("W", s.str());
   }
   return Ws;
-}
-
-double condition_number(const Eigen::MatrixXd& M) {
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M);
-  const auto& s = svd.singularValues();
-  if (s.size() == 0 || !s.allFinite()) return std::numeric_limits<double>::infinity();
-  const double lo = s(s.size() - 1);
-  return lo > 0.0 ? s(0) / lo : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
@@ -426,18 +420,23 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
   S.multiplier_guess = lambda;
   S.multiplier = lambda;
 
-  auto failure_text = [&](const typename Flow::Sweep& sw) { return flow->failure_message(sw); };
-
   typename Flow::Sweep& current = result.sweep;
-  typename Flow::Sweep trial;
   S.sweeps = 1;
   if (!flow->run(lambda, true, current)) {
     S.status = ShootingStatus::SweepFailed;
-    S.message = "the initial multiplier guess: " + failure_text(current) +
+    S.message = "the initial multiplier guess: " + flow->failure_message(current) +
                 " (the guess's controls are too large for the rotation update; try a smaller guess)";
     S.wall_seconds = seconds();
     return result;
   }
+
+  NewtonArmijoOptions<ns> newton;
+  newton.max_iterations = o.max_iterations;
+  newton.max_backtracks = o.max_backtracks;
+  newton.armijo = o.armijo;
+  newton.tolerance = o.tolerance;
+  newton.polish_iterations = o.polish_iterations;
+  newton.start = start;
   // Merit of the line search: |diag(weights) r|; the convergence test is always on the violation
   // |r| (velocity coordinates). Momentum weights measure the angular and linear velocity errors
   // as momenta (J dOmega, m dv), the LGVI's own variables: a Newton step that spins up a body
@@ -446,157 +445,43 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
   if (o.merit == Merit::Momentum) {
     weights.template bottomRightCorner<Flow::nq, Flow::nq>() = flow->model().momentum_per_velocity();
   }
-  auto merit = [&](const VecS& r) { return (weights * r).norm(); };
-  double violation = current.residual.norm();
-  double merit_value = merit(current.residual);
-  S.cost = current.cost;
-  S.violation = violation;
-  S.cond_min = S.cond_full_min = std::numeric_limits<double>::infinity();
-  S.cond_max = S.cond_full_max = 0.0;
+  newton.merit_weights = weights;
+  if (S.decomposition) newton.initial_conserved_gradient = Model::conserved_gradient(flow->initial_state());
 
-  // Symmetry bases: v_g from the initial state (fixed), u_g from the terminal state.
-  MatS V = MatS::Identity();
-  if (S.decomposition) {
-    const VecS v_g = Model::conserved_gradient(flow->initial_state());
-    const Eigen::HouseholderQR<VecS> qr(v_g);
-    V = qr.householderQ();  // V.col(0) = +-v_g / |v_g|, the rest its orthogonal complement
-  }
-
-  int polish_left = -1;  // -1: not polishing yet
-  for (int it = 0;; ++it) {
-    IterationRecord rec;
-    rec.iteration = it;
-    rec.violation = violation;
-    rec.cost = current.cost;
-    if (violation <= o.tolerance) {
-      S.status = ShootingStatus::Converged;
-      if (polish_left < 0) polish_left = o.polish_iterations;
-      if (polish_left == 0) break;
-    } else if (it >= o.max_iterations) {
-      S.status = ShootingStatus::MaxIterations;
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "violation %.3g > tolerance %.3g after the limit of %d outer iterations",
-                    violation, o.tolerance, o.max_iterations);
-      S.message = buf;
-      break;
+  // One shot is one sweep of the flow (with the exact sensitivities when a Jacobian is asked for).
+  struct Sweeps {
+    const Flow& flow;
+    bool evaluate(const VecS& l, bool sensitivities, typename Flow::Sweep& out) const {
+      return flow.run(l, sensitivities, out);
     }
-    const MatS jac = weights * current.jacobian;
-    const VecS r = weights * current.residual;
-    rec.cond_sensitivity = condition_number(current.jacobian);
-    VecS direction;
-    if (S.decomposition) {
+    std::pair<MatS, VecS> terminal_symmetry(const typename Flow::Sweep& current) const {
       const typename Model::State& sN = current.states.back();
-      const MatS D = weights * flow->residual_jacobian(sN, current.residual);
-      const VecS c = Model::conserved_gradient(sN);
-      const VecS u_g = D.transpose().partialPivLu().solve(c);
-      const Eigen::HouseholderQR<VecS> qr(u_g);
-      const MatS U = qr.householderQ();
-      const MatS blocks = U.transpose() * jac * V;
-      const Eigen::Matrix<double, ns - 1, ns - 1> shape = blocks.template bottomRightCorner<ns - 1, ns - 1>();
-      const double scale = blocks.norm();
-      rec.group_block = std::max(blocks.row(0).norm(), blocks.col(0).norm()) / (scale > 0.0 ? scale : 1.0);
-      const VecS r_rot = U.transpose() * r;
-      rec.group_residual = std::abs(r_rot(0));
-      rec.cond_inverted = condition_number(shape);
-      const Eigen::Matrix<double, ns - 1, 1> sigma =
-          -shape.partialPivLu().solve(r_rot.template tail<ns - 1>());
-      direction = V.template rightCols<ns - 1>() * sigma;
-    } else {
-      rec.cond_inverted = rec.cond_sensitivity;
-      direction = -jac.partialPivLu().solve(r);
+      return {flow.residual_jacobian(sN, current.residual), Model::conserved_gradient(sN)};
     }
-    rec.step_norm = direction.norm();
-    S.cond_min = std::min(S.cond_min, rec.cond_inverted);
-    S.cond_max = std::max(S.cond_max, rec.cond_inverted);
-    S.cond_full_min = std::min(S.cond_full_min, rec.cond_sensitivity);
-    S.cond_full_max = std::max(S.cond_full_max, rec.cond_sensitivity);
-    if (!direction.allFinite()) {
-      S.status = ShootingStatus::SingularSensitivity;
-      char buf[256];
-      std::snprintf(buf, sizeof buf, "the Newton system at outer iteration %d has no finite solution (cond %.3g)",
-                    it, rec.cond_inverted);
-      S.message = buf;
-      rec.sweeps = S.sweeps;
-      rec.seconds = seconds();
-      S.history.push_back(rec);
-      break;
-    }
-    // Line search (a full step only when polishing: kept if it lowers the violation).
-    const bool polishing = polish_left > 0;
-    double t = 1.0;
-    bool accepted = false;
-    const int max_trials = polishing ? 1 : o.max_backtracks + 1;
-    for (int b = 0; b < max_trials; ++b) {
-      const VecS candidate = lambda + t * direction;
-      ++S.sweeps;
-      if (b > 0) ++S.inner_iterations;
-      rec.backtracks = b;
-      if (flow->run(candidate, false, trial)) {
-        const bool decrease = polishing ? trial.residual.norm() < violation
-                                        : merit(trial.residual) <= (1.0 - o.armijo * t) * merit_value;
-        if (decrease) {
-          lambda = candidate;
-          accepted = true;
-          break;
-        }
-      }
-      t *= 0.5;
-    }
-    rec.sweeps = S.sweeps;
-    if (!accepted) {
-      rec.step_length = 0.0;
-      rec.seconds = seconds();
-      S.history.push_back(rec);
-      if (polishing) break;  // at the round-off floor: converged stays
-      // Round-off floor of r near lambda: one unit in the last place of each lambda_0 entry
-      // moves r by about |column| ulp; Newton cannot resolve r below that.
+    // Round-off floor of r near lambda: one unit in the last place of each lambda_0 entry
+    // moves r by about |column| ulp; Newton cannot resolve r below that.
+    double round_off_floor(const typename Flow::Sweep& current, const VecS& lambda) const {
       double floor = 0.0;
       for (int i = 0; i < ns; ++i) {
         floor += current.jacobian.col(i).norm() * std::numeric_limits<double>::epsilon() * std::abs(lambda(i));
       }
+      return floor;
+    }
+    std::string stall_message(double violation, int it, double floor, double cond) const {
       char buf[400];
-      if (violation <= 10.0 * floor) {
-        S.status = ShootingStatus::Stalled;
-        std::snprintf(buf, sizeof buf,
-                      "no decrease below violation %.3g at outer iteration %d: that is the round-off floor of "
-                      "the terminal residual (one unit in the last place of lambda_0 moves it by ~%.2g; "
-                      "condition number %.3g)",
-                      violation, it, floor, rec.cond_inverted);
-      } else {
-        S.status = ShootingStatus::LineSearchFailed;
-        std::snprintf(buf, sizeof buf,
-                      "no sufficient decrease of the violation %.3g at outer iteration %d after %d step "
-                      "halvings (last t = %.3g)",
-                      violation, it, o.max_backtracks, 2.0 * t);
-      }
-      S.message = buf;
-      break;
+      std::snprintf(buf, sizeof buf,
+                    "no decrease below violation %.3g at outer iteration %d: that is the round-off floor of "
+                    "the terminal residual (one unit in the last place of lambda_0 moves it by ~%.2g; "
+                    "condition number %.3g)",
+                    violation, it, floor, cond);
+      return buf;
     }
-    rec.step_length = t;
-    // Re-run the accepted point with sensitivities for the next Newton step.
-    ++S.sweeps;
-    rec.sweeps = S.sweeps;
-    if (!flow->run(lambda, true, current)) {  // cannot happen: the same sweep just succeeded
-      S.status = ShootingStatus::SweepFailed;
-      S.message = "re-running the accepted step: " + failure_text(current);
-      rec.seconds = seconds();
-      S.history.push_back(rec);
-      break;
+    // Cannot happen: the same sweep just succeeded without sensitivities.
+    std::string rerun_failure(const typename Flow::Sweep& failed) const {
+      return "re-running the accepted step: " + flow.failure_message(failed);
     }
-    violation = current.residual.norm();
-    merit_value = merit(current.residual);
-    ++S.iterations;
-    if (polishing) --polish_left;
-    rec.seconds = seconds();
-    S.history.push_back(rec);
-  }
-  S.cost = current.cost;
-  S.violation = violation;
-  S.residual = current.residual;
-  S.multiplier = lambda;
-  if (S.cond_min > S.cond_max) S.cond_min = S.cond_max = 0.0;
-  if (S.cond_full_min > S.cond_full_max) S.cond_full_min = S.cond_full_max = 0.0;
-  S.wall_seconds = seconds();
+  } sweeps{*flow};
+  newton_armijo_shooting(sweeps, newton, lambda, current, S);
   return result;
 }
 

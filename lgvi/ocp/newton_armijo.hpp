@@ -1,0 +1,224 @@
+// Newton-Armijo shooting on the initial multiplier lambda_0, shared by the discrete necessary
+// conditions (indirect.cpp, solve_indirect) and the continuous baseline (baselines/pontryagin.cpp,
+// solve_pontryagin): the outer Newton iterations, the full or symmetry-decomposed Newton system,
+// the Armijo line search and its polishing steps, the stall / line-search-failure diagnosis and the
+// ShootingSummary bookkeeping. What is shot (a sweep of the discrete flow, a CVODES integration of
+// the state-costate ODE) enters through the Problem; the method is the one documented at
+// solve_indirect (indirect.hpp): Kelley 2003, sec. 1.10, and the decomposition
+// U^T (dr/dlambda) V = [S 0; 0 0], d = -V_s S^{-1} U_s^T r.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include <Eigen/Dense>
+#include <Eigen/SVD>
+
+#include "lgvi/ocp/indirect.hpp"
+
+namespace lgvi::ocp {
+
+/// 2-norm condition number; +inf for a singular or non-finite matrix.
+inline double condition_number(const Eigen::MatrixXd& M) {
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M);
+  const auto& s = svd.singularValues();
+  if (s.size() == 0 || !s.allFinite()) return std::numeric_limits<double>::infinity();
+  const double lo = s(s.size() - 1);
+  return lo > 0.0 ? s(0) / lo : std::numeric_limits<double>::infinity();
+}
+
+/// Settings of newton_armijo_shooting (validated by the caller).
+template <int N>
+struct NewtonArmijoOptions {
+  int max_iterations = 100;
+  int max_backtracks = 30;
+  double armijo = 1e-4;      ///< sufficient decrease merit(r(l + t d)) <= (1 - armijo t) merit(r(l))
+  double tolerance = 1e-12;  ///< on the violation |r|
+  int polish_iterations = 3;
+  /// Merit of the line search |weights r| and the weighting of the Newton system (jacobian,
+  /// residual and D alike); none: |r| and the unweighted system. The convergence test is always
+  /// on the violation |r|.
+  std::optional<Eigen::Matrix<double, N, N>> merit_weights;
+  /// The symmetry's multiplier direction v_g = dC(s_0) (used when summary.decomposition).
+  Eigen::Matrix<double, N, 1> initial_conserved_gradient = Eigen::Matrix<double, N, 1>::Zero();
+  /// Start of the solve: rec.seconds and summary.wall_seconds count from here.
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+};
+
+/// Newton-Armijo iterations from `lambda` whose evaluation (with Jacobian, ok) is `current`;
+/// `summary.decomposition` selects the symmetry-decomposed Newton system. On return `lambda` is
+/// the last accepted multiplier, `current` its evaluation (see Problem::evaluate), and summary's
+/// status, message, iterations, sweeps, condition ranges, history, cost, violation, residual,
+/// multiplier and wall_seconds are set. Problem (Evaluation has `residual`, `jacobian`, `cost`):
+///   bool evaluate(const Vec& lambda, bool jacobian, Evaluation& out): one shot, with dr/dlambda_0
+///     when `jacobian`; on failure `out` holds whatever the problem leaves there (read only by
+///     rerun_failure).
+///   std::pair<Mat, Vec> terminal_symmetry(const Evaluation&): D = dr/dw_N and dC(s_N), from
+///     which u_g = D^{-T} dC(s_N) (decomposition only).
+///   double round_off_floor(const Evaluation& current, const Vec& lambda): the violation below
+///     which Newton cannot resolve r; a failed line search within 10x of it is Stalled.
+///   std::string stall_message(double violation, int iteration, double floor, double cond).
+///   std::string rerun_failure(const Evaluation& failed): the accepted point's re-run with its
+///     Jacobian failed.
+template <class Problem, class Evaluation, int N>
+void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
+                            Evaluation& current, ShootingSummary& S) {
+  using Vec = Eigen::Matrix<double, N, 1>;
+  using Mat = Eigen::Matrix<double, N, N>;
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - o.start).count(); };
+  auto merit = [&](const Vec& r) { return o.merit_weights ? (*o.merit_weights * r).norm() : r.norm(); };
+  auto weighted = [&]<class T>(const T& M) -> T {
+    if (o.merit_weights) return T(*o.merit_weights * M);
+    return M;
+  };
+
+  Evaluation trial;
+  double violation = current.residual.norm();
+  double merit_value = merit(current.residual);
+  S.cost = current.cost;
+  S.violation = violation;
+  S.cond_min = S.cond_full_min = std::numeric_limits<double>::infinity();
+  S.cond_max = S.cond_full_max = 0.0;
+
+  // Symmetry bases: v_g from the initial state (fixed), u_g from the terminal state.
+  Mat V = Mat::Identity();
+  if (S.decomposition) {
+    const Eigen::HouseholderQR<Vec> qr(o.initial_conserved_gradient);
+    V = qr.householderQ();  // V.col(0) = +-v_g / |v_g|, the rest its orthogonal complement
+  }
+
+  int polish_left = -1;  // -1: not polishing yet
+  for (int it = 0;; ++it) {
+    IterationRecord rec;
+    rec.iteration = it;
+    rec.violation = violation;
+    rec.cost = current.cost;
+    if (violation <= o.tolerance) {
+      S.status = ShootingStatus::Converged;
+      if (polish_left < 0) polish_left = o.polish_iterations;
+      if (polish_left == 0) break;
+    } else if (it >= o.max_iterations) {
+      S.status = ShootingStatus::MaxIterations;
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "violation %.3g > tolerance %.3g after the limit of %d outer iterations",
+                    violation, o.tolerance, o.max_iterations);
+      S.message = buf;
+      break;
+    }
+    const Mat jac = weighted(current.jacobian);
+    const Vec r = weighted(current.residual);
+    rec.cond_sensitivity = condition_number(current.jacobian);
+    Vec direction;
+    if (S.decomposition) {
+      const std::pair<Mat, Vec> terminal = problem.terminal_symmetry(current);
+      const Mat D = weighted(terminal.first);
+      const Vec u_g = D.transpose().partialPivLu().solve(terminal.second);
+      const Eigen::HouseholderQR<Vec> qr(u_g);
+      const Mat U = qr.householderQ();
+      const Mat blocks = U.transpose() * jac * V;
+      const Eigen::Matrix<double, N - 1, N - 1> shape = blocks.template bottomRightCorner<N - 1, N - 1>();
+      const double scale = blocks.norm();
+      rec.group_block = std::max(blocks.row(0).norm(), blocks.col(0).norm()) / (scale > 0.0 ? scale : 1.0);
+      const Vec r_rot = U.transpose() * r;
+      rec.group_residual = std::abs(r_rot(0));
+      rec.cond_inverted = condition_number(shape);
+      const Eigen::Matrix<double, N - 1, 1> sigma = -shape.partialPivLu().solve(r_rot.template tail<N - 1>());
+      direction = V.template rightCols<N - 1>() * sigma;
+    } else {
+      rec.cond_inverted = rec.cond_sensitivity;
+      direction = -jac.partialPivLu().solve(r);
+    }
+    rec.step_norm = direction.allFinite() ? direction.norm() : std::numeric_limits<double>::infinity();
+    S.cond_min = std::min(S.cond_min, rec.cond_inverted);
+    S.cond_max = std::max(S.cond_max, rec.cond_inverted);
+    S.cond_full_min = std::min(S.cond_full_min, rec.cond_sensitivity);
+    S.cond_full_max = std::max(S.cond_full_max, rec.cond_sensitivity);
+    if (!direction.allFinite()) {
+      S.status = ShootingStatus::SingularSensitivity;
+      char buf[256];
+      std::snprintf(buf, sizeof buf, "the Newton system at outer iteration %d has no finite solution (cond %.3g)",
+                    it, rec.cond_inverted);
+      S.message = buf;
+      rec.sweeps = S.sweeps;
+      rec.seconds = seconds();
+      S.history.push_back(rec);
+      break;
+    }
+    // Line search (a full step only when polishing: kept if it lowers the violation). A trial
+    // whose evaluation fails counts as not decreasing.
+    const bool polishing = polish_left > 0;
+    double t = 1.0;
+    bool accepted = false;
+    const int max_trials = polishing ? 1 : o.max_backtracks + 1;
+    for (int b = 0; b < max_trials; ++b) {
+      const Vec candidate = lambda + t * direction;
+      ++S.sweeps;
+      if (b > 0) ++S.inner_iterations;
+      rec.backtracks = b;
+      if (problem.evaluate(candidate, false, trial)) {
+        const bool decrease = polishing ? trial.residual.norm() < violation
+                                        : merit(trial.residual) <= (1.0 - o.armijo * t) * merit_value;
+        if (decrease) {
+          lambda = candidate;
+          accepted = true;
+          break;
+        }
+      }
+      t *= 0.5;
+    }
+    rec.sweeps = S.sweeps;
+    if (!accepted) {
+      rec.step_length = 0.0;
+      rec.seconds = seconds();
+      S.history.push_back(rec);
+      if (polishing) break;  // at the round-off floor: converged stays
+      const double floor = problem.round_off_floor(current, lambda);
+      if (violation <= 10.0 * floor) {
+        S.status = ShootingStatus::Stalled;
+        S.message = problem.stall_message(violation, it, floor, rec.cond_inverted);
+      } else {
+        S.status = ShootingStatus::LineSearchFailed;
+        char buf[400];
+        std::snprintf(buf, sizeof buf,
+                      "no sufficient decrease of the violation %.3g at outer iteration %d after %d step "
+                      "halvings (last t = %.3g)",
+                      violation, it, o.max_backtracks, 2.0 * t);
+        S.message = buf;
+      }
+      break;
+    }
+    rec.step_length = t;
+    // Re-run the accepted point with its Jacobian for the next Newton step.
+    ++S.sweeps;
+    rec.sweeps = S.sweeps;
+    if (!problem.evaluate(lambda, true, current)) {
+      S.status = ShootingStatus::SweepFailed;
+      S.message = problem.rerun_failure(current);
+      rec.seconds = seconds();
+      S.history.push_back(rec);
+      break;
+    }
+    violation = current.residual.norm();
+    merit_value = merit(current.residual);
+    ++S.iterations;
+    if (polishing) --polish_left;
+    rec.seconds = seconds();
+    S.history.push_back(rec);
+  }
+  S.cost = current.cost;
+  S.violation = violation;
+  S.residual = current.residual;
+  S.multiplier = lambda;
+  if (S.cond_min > S.cond_max) S.cond_min = S.cond_max = 0.0;
+  if (S.cond_full_min > S.cond_full_max) S.cond_full_min = S.cond_full_max = 0.0;
+  S.wall_seconds = seconds();
+}
+
+}  // namespace lgvi::ocp
