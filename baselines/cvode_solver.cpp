@@ -3,17 +3,12 @@
 // requested times (CV_NORMAL, stop time at the last one), the Euler model's singular set as a
 // root function, CVODE's projection interface for the renormalized quaternion (BDF only).
 // Every return flag is checked; CVODE's error handler is redirected into the status.
-#include <cvodes/cvodes.h>  // CVODES provides the CVODE API (CMakeLists.txt: one SUNDIALS integrator library)
 #include <cvodes/cvodes_proj.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
 
-#include <cstdlib>
 #include <string>
 #include <vector>
 
+#include "baselines/cvode_detail.hpp"
 #include "baselines/solver_detail.hpp"
 
 namespace lgvi::baselines::detail {
@@ -23,7 +18,6 @@ namespace {
 struct CvodeUser {
   Run* run;
   std::vector<double> J;  ///< row-major Jacobian buffer
-  std::string last_message;
 };
 
 int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void* user) {
@@ -65,38 +59,10 @@ int cv_project(realtype /*t*/, N_Vector ycur, N_Vector corr, realtype /*eps*/, N
   return 0;
 }
 
-void cv_error_handler(int /*code*/, const char* module, const char* function, char* msg, void* user) {
-  auto* u = static_cast<CvodeUser*>(user);
-  u->last_message = std::string(module ? module : "") + "/" + (function ? function : "") + ": " + (msg ? msg : "");
-}
-
-std::string flag_name(int flag) {
-  char* name = CVodeGetReturnFlagName(flag);
-  std::string s = name ? name : ("flag " + std::to_string(flag));
-  std::free(name);
-  return s;
-}
-
-/// Owns the CVODE objects; frees them in reverse order whatever happens.
-struct CvodeObjects {
-  SUNContext ctx = nullptr;
-  N_Vector y = nullptr;
-  SUNMatrix A = nullptr;
-  SUNLinearSolver LS = nullptr;
-  void* mem = nullptr;
-  ~CvodeObjects() {
-    if (mem) CVodeFree(&mem);
-    if (LS) SUNLinSolFree(LS);
-    if (A) SUNMatDestroy(A);
-    if (y) N_VDestroy(y);
-    if (ctx) SUNContext_Free(&ctx);
-  }
-};
-
 }  // namespace
 
 Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
-  CvodeUser user{&run, std::vector<double>(run.n * run.n), {}};
+  CvodeUser user{&run, std::vector<double>(run.n * run.n)};
   CvodeObjects cv;
   const auto n = static_cast<sunindextype>(run.n);
   const double t0 = run.times[0];
@@ -105,37 +71,16 @@ Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
 
   // A setup flag is a programming or memory error, reported as such with the call's name.
   auto setup = [&](int flag, const char* call) {
-    if (flag < 0 && !run.stopped()) {
-      run.stop_failed(t0, std::string(call) + " returned " + flag_name(flag) +
-                              (user.last_message.empty() ? "" : " (" + user.last_message + ")"));
-    }
+    if (flag < 0 && !run.stopped()) run.stop_failed(t0, cv.setup_failure(flag, call));
     return flag >= 0;
   };
-  if (SUNContext_Create(nullptr, &cv.ctx) != 0 || cv.ctx == nullptr) {
-    run.stop_failed(t0, "SUNContext_Create failed");
-    return run.stats;
-  }
-  cv.y = N_VNew_Serial(n, cv.ctx);
-  cv.mem = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, cv.ctx);
-  cv.A = SUNDenseMatrix(n, n, cv.ctx);
-  if (!cv.y || !cv.mem || !cv.A) {
-    run.stop_failed(t0, "CVODE allocation failed");
-    return run.stats;
-  }
-  cv.LS = SUNLinSol_Dense(cv.y, cv.A, cv.ctx);
-  if (!cv.LS) {
-    run.stop_failed(t0, "SUNLinSol_Dense failed");
+  if (const char* failed = cv.allocate(n, bdf, 0, "CVODE allocation failed", "SUNLinSol_Dense failed")) {
+    run.stop_failed(t0, failed);
     return run.stats;
   }
   std::copy(y.begin(), y.end(), N_VGetArrayPointer(cv.y));
-  bool ok = setup(CVodeSetErrHandlerFn(cv.mem, cv_error_handler, &user), "CVodeSetErrHandlerFn") &&
-            setup(CVodeInit(cv.mem, cv_rhs, t0, cv.y), "CVodeInit") &&
-            setup(CVodeSetUserData(cv.mem, &user), "CVodeSetUserData") &&
-            setup(CVodeSStolerances(cv.mem, *run.settings.rtol, *run.settings.atol), "CVodeSStolerances") &&
-            setup(CVodeSetLinearSolver(cv.mem, cv.LS, cv.A), "CVodeSetLinearSolver") &&
-            setup(CVodeSetJacFn(cv.mem, run.settings.jacobian == JacobianSource::Analytic ? cv_jac : nullptr),
-                  "CVodeSetJacFn") &&
-            setup(CVodeSetStopTime(cv.mem, t_end), "CVodeSetStopTime");
+  bool ok = cv.setup(cv_rhs, run.settings.jacobian == JacobianSource::Analytic ? cv_jac : nullptr, &user, t0, t_end,
+                     *run.settings.rtol, *run.settings.atol, setup);
   if (ok && run.ode.has_singular_set()) {
     int direction = -1;  // g decreases through 0 when |cos theta| falls to the threshold
     ok = setup(CVodeRootInit(cv.mem, 1, cv_root), "CVodeRootInit") &&
@@ -145,13 +90,7 @@ Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
   if (!ok) return run.stats;
 
   auto collect = [&] {
-    long v = 0;
-    if (CVodeGetNumSteps(cv.mem, &v) >= 0) run.stats.steps = static_cast<std::size_t>(v);
-    long netf = 0, ncfn = 0, nni = 0;
-    if (CVodeGetNumErrTestFails(cv.mem, &netf) >= 0 && CVodeGetNumNonlinSolvConvFails(cv.mem, &ncfn) >= 0) {
-      run.stats.rejected_steps = static_cast<std::size_t>(netf + ncfn);
-    }
-    if (CVodeGetNumNonlinSolvIters(cv.mem, &nni) >= 0) run.stats.nonlinear_iterations = static_cast<std::size_t>(nni);
+    cv.collect(run.stats);
     // With CVODE's difference quotient the Jacobian evaluations are CVODE's count (its RHS calls
     // are already in rhs_evaluations, which counts every call).
     long nje = 0;
@@ -181,7 +120,7 @@ Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
       if (!run.stop_on_rhs_failure()) {
         realtype t_reached = t;
         CVodeGetCurrentTime(cv.mem, &t_reached);
-        run.stop_failed(t_reached, flag_name(flag) + (user.last_message.empty() ? "" : ": " + user.last_message));
+        run.stop_failed(t_reached, cvode_flag_name(flag) + (cv.last_message.empty() ? "" : ": " + cv.last_message));
       }
     } else {
       // CV_SUCCESS or CV_TSTOP_RETURN (the last time): y is the state at times[i].

@@ -3,17 +3,12 @@
 // quotients, CV_NORMAL to the stop time, CVodeGetSens. Every flag is checked.
 #include "baselines/sensitivity.hpp"
 
-#include <cvodes/cvodes.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
-
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <string>
 #include <vector>
+
+#include "baselines/cvode_detail.hpp"
 
 namespace lgvi::baselines {
 
@@ -37,7 +32,6 @@ struct User {
   std::size_t sens_calls = 0;
   std::string failure;  ///< first callback failure
   double failure_time = 0.0;
-  std::string last_message;
 
   bool fail(double t, const std::string& what) {
     if (failure.empty()) {
@@ -95,36 +89,6 @@ int f_sens(int Ns, realtype t, N_Vector y, N_Vector, N_Vector* yS, N_Vector* ySd
   return 0;
 }
 
-void error_handler(int, const char* module, const char* function, char* msg, void* data) {
-  auto* u = static_cast<User*>(data);
-  u->last_message = std::string(module ? module : "") + "/" + (function ? function : "") + ": " + (msg ? msg : "");
-}
-
-std::string flag_name(int flag) {
-  char* name = CVodeGetReturnFlagName(flag);
-  std::string s = name ? name : ("flag " + std::to_string(flag));
-  std::free(name);
-  return s;
-}
-
-struct Objects {
-  SUNContext ctx = nullptr;
-  N_Vector y = nullptr;
-  N_Vector* yS = nullptr;
-  int Ns = 0;
-  SUNMatrix A = nullptr;
-  SUNLinearSolver LS = nullptr;
-  void* mem = nullptr;
-  ~Objects() {
-    if (mem) CVodeFree(&mem);  // frees the sensitivity memory too
-    if (LS) SUNLinSolFree(LS);
-    if (A) SUNMatDestroy(A);
-    if (yS) N_VDestroyVectorArray(yS, Ns);
-    if (y) N_VDestroy(y);
-    if (ctx) SUNContext_Free(&ctx);
-  }
-};
-
 }  // namespace
 
 SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd& y0, const Eigen::MatrixXd& S0,
@@ -146,8 +110,8 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
   result.y = y0;
   result.S = S0;
   Stats& stats = result.stats;
-  User user{&ode, n, std::vector<double>(static_cast<std::size_t>(n) * n), 0, 0, 0, {}, 0.0, {}};
-  Objects cv;
+  User user{&ode, n, std::vector<double>(static_cast<std::size_t>(n) * n), 0, 0, 0, {}, 0.0};
+  detail::CvodeObjects cv;
   const int Ns = static_cast<int>(S0.cols());
   auto finish = [&] {
     stats.rhs_evaluations = user.rhs_calls;
@@ -163,31 +127,13 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
     stats.failed_step = stats.steps;
   };
   auto check = [&](int flag, const char* call) {
-    if (flag < 0 && stats.ok()) {
-      fail(t0, std::string(call) + " returned " + flag_name(flag) +
-                   (user.last_message.empty() ? "" : " (" + user.last_message + ")"));
-    }
+    if (flag < 0 && stats.ok()) fail(t0, cv.setup_failure(flag, call));
     return flag >= 0;
   };
 
-  if (SUNContext_Create(nullptr, &cv.ctx) != 0 || cv.ctx == nullptr) {
-    fail(t0, "SUNContext_Create failed");
-    return finish();
-  }
-  cv.y = N_VNew_Serial(n, cv.ctx);
-  cv.mem = CVodeCreate(settings.method == MultistepMethod::Bdf ? CV_BDF : CV_ADAMS, cv.ctx);
-  cv.A = SUNDenseMatrix(n, n, cv.ctx);
-  if (!cv.y || !cv.mem || !cv.A) {
-    fail(t0, "CVODES allocation failed");
-    return finish();
-  }
-  if (Ns > 0) {
-    cv.yS = N_VCloneVectorArray(Ns, cv.y);
-    cv.Ns = Ns;
-  }
-  cv.LS = SUNLinSol_Dense(cv.y, cv.A, cv.ctx);
-  if ((Ns > 0 && !cv.yS) || !cv.LS) {
-    fail(t0, "CVODES allocation failed (sensitivity vectors or linear solver)");
+  if (const char* failed = cv.allocate(n, settings.method == MultistepMethod::Bdf, Ns, "CVODES allocation failed",
+                                       "CVODES allocation failed (sensitivity vectors or linear solver)")) {
+    fail(t0, failed);
     return finish();
   }
   Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(cv.y), n) = y0;
@@ -199,15 +145,8 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
   std::vector<int> plist(static_cast<std::size_t>(Ns));
   for (int i = 0; i < Ns; ++i) plist[static_cast<std::size_t>(i)] = i;
   const int ism = settings.corrector == SensitivityCorrector::Simultaneous ? CV_SIMULTANEOUS : CV_STAGGERED;
-  bool ok =
-      check(CVodeSetErrHandlerFn(cv.mem, error_handler, &user), "CVodeSetErrHandlerFn") &&
-      check(CVodeInit(cv.mem, f_rhs, t0, cv.y), "CVodeInit") &&
-      check(CVodeSetUserData(cv.mem, &user), "CVodeSetUserData") &&
-      check(CVodeSStolerances(cv.mem, settings.rtol, atol), "CVodeSStolerances") &&
-      check(CVodeSetLinearSolver(cv.mem, cv.LS, cv.A), "CVodeSetLinearSolver") &&
-      check(CVodeSetJacFn(cv.mem, f_jac), "CVodeSetJacFn") &&
-      check(CVodeSetStopTime(cv.mem, t1), "CVodeSetStopTime") &&
-      check(CVodeSetMaxNumSteps(cv.mem, static_cast<long>(settings.max_steps)), "CVodeSetMaxNumSteps");
+  bool ok = cv.setup(f_rhs, f_jac, &user, t0, t1, settings.rtol, atol, check) &&
+            check(CVodeSetMaxNumSteps(cv.mem, static_cast<long>(settings.max_steps)), "CVodeSetMaxNumSteps");
   // No columns: the state alone (plain CVODE), e.g. the line-search trials of the shooting.
   ok = ok && (Ns == 0 ||
       (check(CVodeSensInit(cv.mem, Ns, ism, settings.rhs == SensitivityRhs::Analytic ? f_sens : nullptr, cv.yS),
@@ -223,23 +162,19 @@ SensitivityResult integrate_sensitivities(const Ode& ode, const Eigen::VectorXd&
 
   realtype t = t0;
   const int flag = CVode(cv.mem, t1, cv.y, &t, CV_NORMAL);
-  long steps = 0, netf = 0, ncfn = 0, nni = 0, netfS = 0, ncfnS = 0;
-  if (CVodeGetNumSteps(cv.mem, &steps) >= 0) stats.steps = static_cast<std::size_t>(steps);
-  if (CVodeGetNumErrTestFails(cv.mem, &netf) >= 0 && CVodeGetNumNonlinSolvConvFails(cv.mem, &ncfn) >= 0) {
-    stats.rejected_steps = static_cast<std::size_t>(netf + ncfn);
-  }
+  cv.collect(stats);
+  long netfS = 0, ncfnS = 0;
   if (Ns > 0 && CVodeGetSensNumErrTestFails(cv.mem, &netfS) >= 0 && CVodeGetSensNumNonlinSolvConvFails(cv.mem, &ncfnS) >= 0) {
     stats.rejected_steps += static_cast<std::size_t>(netfS + ncfnS);
   }
-  if (CVodeGetNumNonlinSolvIters(cv.mem, &nni) >= 0) stats.nonlinear_iterations = static_cast<std::size_t>(nni);
   result.y = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(cv.y), n);
   if (flag < 0) {
     realtype t_reached = t;
     CVodeGetCurrentTime(cv.mem, &t_reached);
     if (!user.failure.empty()) {
-      fail(user.failure_time, "CVode returned " + flag_name(flag) + ": " + user.failure);
+      fail(user.failure_time, "CVode returned " + detail::cvode_flag_name(flag) + ": " + user.failure);
     } else {
-      fail(t_reached, "CVode returned " + flag_name(flag) + (user.last_message.empty() ? "" : ": " + user.last_message));
+      fail(t_reached, "CVode returned " + detail::cvode_flag_name(flag) + (cv.last_message.empty() ? "" : ": " + cv.last_message));
     }
     return finish();
   }

@@ -11,6 +11,7 @@
 #include "experiments/csv_writer.hpp"
 #include "experiments/fields.hpp"
 #include "experiments/json_writer.hpp"
+#include "experiments/ocp_output.hpp"
 #include "experiments/simulate.hpp"
 #include "lgvi/ocp/indirect.hpp"
 
@@ -41,11 +42,7 @@ struct PaperValues {
 constexpr PaperValues kPaperPendulum{7.32, 4.80e-15, 50};
 constexpr PaperValues kPaperDumbbell{13.03, 9.32e-15, 20};
 
-std::string join(const Eigen::VectorXd& v) {
-  std::string s;
-  for (Eigen::Index i = 0; i < v.size(); ++i) s += (i > 0 ? " " : "") + shortest(v(i));
-  return s;
-}
+using ocp_output::join;
 
 std::vector<std::string> multiplier_columns(bool translation) {
   std::vector<std::string> c;
@@ -123,18 +120,10 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
                     const std::string& command_line, std::ostream& out, std::ostream& err) {
   const ocp::ShootingResult<Model> result = ocp::solve_indirect(system, problem, options);
   const ocp::ShootingSummary& S = result.summary;
-  if (S.status == ocp::ShootingStatus::InvalidInput) {
-    err << "error: ocp " << cmd.system << ": " << S.message << "\n" << std::flush;
-    return 1;
-  }
-  const fs::path dir(cmd.out);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw OutputError(dir.string() + ": cannot create the output directory: " + ec.message());
-  const std::string stem = "ocp-" + cmd.system;
-  const fs::path history = dir / (stem + "-history.csv");
-  const fs::path trajectory = dir / (stem + "-trajectory.csv");
-  const fs::path summary = dir / (stem + "-summary.json");
+  if (S.status == ocp::ShootingStatus::InvalidInput) return ocp_output::invalid_input(cmd, S.message, err);
+  const ocp_output::Files files = ocp_output::create_files(cmd);
+  const fs::path& history = files.history;
+  const fs::path& trajectory = files.trajectory;
 
   // Violation by parts (the norm is the 2-norm of all of them, see lgvi/ocp/indirect.hpp).
   const Eigen::VectorXd& r = S.residual;
@@ -207,15 +196,8 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
     const ocp::StateMultiplierFlow<Model> flow(system, problem, options.form, options.h, options.W, options.rotation);
     write_trajectory<Model>(trajectory, result, flow, f);
   }
-  write_json_summary(summary, {f});
-  out << "ocp " << cmd.system << ": " << S.brief() << "\n";
-  out << "wrote " << history.string() << ", " << trajectory.string() << ", " << summary.string() << "\n";
-  if (!S.converged()) {
-    err << "error: ocp " << cmd.system << ": " << S.brief() << " (results written to " << dir.string() << ")\n"
-        << std::flush;
-    return 2;
-  }
-  return 0;
+  write_json_summary(files.summary, {f});
+  return ocp_output::finish(cmd, S, files, {history, trajectory, files.summary}, out, err);
 }
 
 }  // namespace
@@ -260,18 +242,13 @@ int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std:
     return run_ocp_direct_command(cmd, command_line, out, err);
   }
   ocp::ShootingOptions options;
-  try {
-    options.form = parse_lgvi_form(cmd.form);
-  } catch (const InvalidInput&) {
-    throw InvalidInput("--form", "must be 'symmetric' or 'printed' (got '" + cmd.form + "')");
-  }
+  options.form = ocp_output::parse_form(cmd);
   try {
     options.merit = ocp::parse_merit(cmd.merit);
   } catch (const InvalidInput&) {
     throw InvalidInput("--merit", "must be 'velocity' or 'momentum' (got '" + cmd.merit + "')");
   }
-  if (cmd.h != 0.0 && cmd.steps != 0) throw InvalidInput("--h", "give either --h or --steps, not both");
-  if (cmd.steps < 0) throw InvalidInput("--steps", "must be >= 1");
+  ocp_output::check_step_options(cmd);
   if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 0");
   options.decomposition = !cmd.no_decomposition;
   options.max_iterations = cmd.max_iterations > 0 ? cmd.max_iterations : 300;

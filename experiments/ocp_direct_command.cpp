@@ -14,6 +14,7 @@
 #include "experiments/fields.hpp"
 #include "experiments/json_writer.hpp"
 #include "experiments/ocp_command.hpp"
+#include "experiments/ocp_output.hpp"
 #include "experiments/simulate.hpp"
 #include "lgvi/ocp/direct.hpp"
 
@@ -37,14 +38,7 @@ constexpr int kCartPendulumStarts = 1;
 constexpr int kConnectedBodiesStarts = 8;
 constexpr int kMaxEvaluations = 3000;  // per start; the connected bodies' starts take 400..2500
 
-std::string join(const Eigen::VectorXd& v) {
-  std::string s;
-  for (Eigen::Index i = 0; i < v.size(); ++i) {
-    if (i > 0) s += ' ';
-    s += shortest(v(i));
-  }
-  return s;
-}
+using ocp_output::join;
 
 template <class F>
 std::string start_field(const ocp::DirectSummary& S, F f, const char* separator = " ") {
@@ -119,19 +113,11 @@ int solve_and_write(const typename Model::System& system, const typename Model::
                     const std::string& command_line, std::ostream& out, std::ostream& err) {
   const ocp::DirectResult<Model> result = ocp::solve_direct(system, problem, options);
   const ocp::DirectSummary& S = result.summary;
-  if (S.status == ocp::DirectStatus::InvalidInput) {
-    err << "error: ocp " << cmd.system << ": " << S.message << "\n" << std::flush;
-    return 1;
-  }
-  const fs::path dir(cmd.out);
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw OutputError(dir.string() + ": cannot create the output directory: " + ec.message());
-  const std::string stem = "ocp-" + cmd.system;
-  const fs::path history = dir / (stem + "-history.csv");
-  const fs::path trajectory = dir / (stem + "-trajectory.csv");
-  const fs::path summary = dir / (stem + "-summary.json");
-  const fs::path knots_file = dir / (stem + "-knots.csv");
+  if (S.status == ocp::DirectStatus::InvalidInput) return ocp_output::invalid_input(cmd, S.message, err);
+  const ocp_output::Files files = ocp_output::create_files(cmd);
+  const fs::path& history = files.history;
+  const fs::path& trajectory = files.trajectory;
+  const fs::path knots_file = files.named("-knots.csv");
   constexpr bool cart = Model::nu == 2;
 
   Eigen::VectorXd knot_times(S.knots);
@@ -243,16 +229,8 @@ int solve_and_write(const typename Model::System& system, const typename Model::
     }
     csv.commit(f);
   }
-  write_json_summary(summary, {f});
-  out << "ocp " << cmd.system << ": " << S.brief() << "\n";
-  out << "wrote " << history.string() << ", " << trajectory.string() << ", " << knots_file.string() << ", "
-      << summary.string() << "\n";
-  if (!S.converged()) {
-    err << "error: ocp " << cmd.system << ": " << S.brief() << " (results written to " << dir.string() << ")\n"
-        << std::flush;
-    return 2;
-  }
-  return 0;
+  write_json_summary(files.summary, {f});
+  return ocp_output::finish(cmd, S, files, {history, trajectory, knots_file, files.summary}, out, err);
 }
 
 }  // namespace
@@ -260,11 +238,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
 int run_ocp_direct_command(const OcpCommand& cmd, const std::string& command_line, std::ostream& out,
                            std::ostream& err) {
   ocp::DirectOptions options;
-  try {
-    options.form = parse_lgvi_form(cmd.form);
-  } catch (const InvalidInput&) {
-    throw InvalidInput("--form", "must be 'symmetric' or 'printed' (got '" + cmd.form + "')");
-  }
+  options.form = ocp_output::parse_form(cmd);
   try {
     options.spline = ocp::parse_spline_end(cmd.spline);
   } catch (const InvalidInput&) {
@@ -278,8 +252,7 @@ int run_ocp_direct_command(const OcpCommand& cmd, const std::string& command_lin
   if (cmd.no_decomposition) throw InvalidInput("--no-decomposition", "applies to the pendulum only");
   if (cmd.sphere_radius != 0.0) throw InvalidInput("--sphere-radius", "applies to the dumbbell only");
   if (cmd.merit != "velocity") throw InvalidInput("--merit", "applies to the indirect method only");
-  if (cmd.h != 0.0 && cmd.steps != 0) throw InvalidInput("--h", "give either --h or --steps, not both");
-  if (cmd.steps < 0) throw InvalidInput("--steps", "must be >= 1");
+  ocp_output::check_step_options(cmd);
   if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 1");
   if (cmd.knots < 3) throw InvalidInput("--knots", "must be >= 3");
   if (!(cmd.tolerance > 0.0) || !std::isfinite(cmd.tolerance)) throw InvalidInput("--tolerance", "must be > 0");

@@ -1,0 +1,106 @@
+// What the two `ocp` commands share (experiments/ocp_command.cpp, the indirect method;
+// experiments/ocp_direct_command.cpp, the direct method): the validation of the options both read,
+// the output directory and the ocp-SYSTEM-* file names in it, the summary's vector fields, and the
+// lines printed at the end with the exit status. Internal to those two files, not part of the CLI's
+// interface (experiments/ocp_command.hpp).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <initializer_list>
+#include <ostream>
+#include <string>
+#include <system_error>
+
+#include "experiments/atomic_file.hpp"
+#include "experiments/fields.hpp"
+#include "experiments/ocp_command.hpp"
+#include "lgvi/lgvi.hpp"
+
+namespace lgvi::experiments::ocp_output {
+
+/// --form: "printed" or "symmetric". Throws InvalidInput naming --form.
+inline LgviForm parse_form(const OcpCommand& cmd) {
+  try {
+    return parse_lgvi_form(cmd.form);
+  } catch (const InvalidInput&) {
+    throw InvalidInput("--form", "must be 'symmetric' or 'printed' (got '" + cmd.form + "')");
+  }
+}
+
+/// --h and --steps exclude each other; --steps, if given, is >= 1. Throws InvalidInput.
+inline void check_step_options(const OcpCommand& cmd) {
+  if (cmd.h != 0.0 && cmd.steps != 0) throw InvalidInput("--h", "give either --h or --steps, not both");
+  if (cmd.steps < 0) throw InvalidInput("--steps", "must be >= 1");
+}
+
+/// v's entries in shortest round-trip form, separated by single spaces (a summary field).
+inline std::string join(const Eigen::VectorXd& v) {
+  std::string s;
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (i > 0) s += ' ';
+    s += shortest(v(i));
+  }
+  return s;
+}
+
+/// The output directory of one run and the three files every `ocp` run writes in it.
+struct Files {
+  std::filesystem::path dir;  ///< --out
+  std::string stem;           ///< "ocp-SYSTEM"
+  std::filesystem::path history;     ///< ocp-SYSTEM-history.csv
+  std::filesystem::path trajectory;  ///< ocp-SYSTEM-trajectory.csv
+  std::filesystem::path summary;     ///< ocp-SYSTEM-summary.json
+
+  /// dir/ocp-SYSTEM<suffix>, for a method's further files (e.g. "-knots.csv").
+  std::filesystem::path named(const std::string& suffix) const { return dir / (stem + suffix); }
+};
+
+/// Creates --out (with its parents) and names the files. Throws OutputError when the directory
+/// cannot be created.
+inline Files create_files(const OcpCommand& cmd) {
+  Files f;
+  f.dir = cmd.out;
+  std::error_code ec;
+  std::filesystem::create_directories(f.dir, ec);
+  if (ec) throw OutputError(f.dir.string() + ": cannot create the output directory: " + ec.message());
+  f.stem = "ocp-" + cmd.system;
+  f.history = f.named("-history.csv");
+  f.trajectory = f.named("-trajectory.csv");
+  f.summary = f.named("-summary.json");
+  return f;
+}
+
+/// The solver rejected its input: one "error: ocp SYSTEM: MESSAGE" line on err. Returns the exit
+/// status 1.
+inline int invalid_input(const OcpCommand& cmd, const std::string& message, std::ostream& err) {
+  err << "error: ocp " << cmd.system << ": " << message << "\n" << std::flush;
+  return 1;
+}
+
+/// After the files are written: the summary's brief() line and "wrote FILE, FILE, ..." (the files
+/// in the order given) on out. Returns the exit status: 0 converged; otherwise 2, after an
+/// "error: ocp SYSTEM: ... (results written to DIR)" line on err. Summary: the method's summary
+/// (ocp::ShootingSummary, ocp::DirectSummary), with brief() and converged().
+template <class Summary>
+int finish(const OcpCommand& cmd, const Summary& S, const Files& files,
+           std::initializer_list<std::filesystem::path> written, std::ostream& out, std::ostream& err) {
+  out << "ocp " << cmd.system << ": " << S.brief() << "\n";
+  out << "wrote ";
+  const char* separator = "";
+  for (const std::filesystem::path& file : written) {
+    out << separator << file.string();
+    separator = ", ";
+  }
+  out << "\n";
+  if (!S.converged()) {
+    err << "error: ocp " << cmd.system << ": " << S.brief() << " (results written to " << files.dir.string()
+        << ")\n"
+        << std::flush;
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace lgvi::experiments::ocp_output
