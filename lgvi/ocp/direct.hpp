@@ -66,19 +66,25 @@ struct ConnectedBodiesTransfer {
   static ConnectedBodiesTransfer paper();
 };
 
-/// The linearized step and the terminal residual of the cart-pendulum. Tangent coordinates
-/// w = [eta (3); dq (2); dPi (3); dp (2)], R -> R exp(hat eta).
-struct CartPendulumDirectModel {
-  static constexpr int nw = 10, nu = 2, nr = 10, nr_full = 10;
-  using System = CartPendulum;
-  using Lgvi = CartPendulumLgvi;
-  using State = CartPendulumState;
-  using Transfer = CartPendulumTransfer;
+/// The fixed-size types of a direct model: tangent dimension NW, NU control components, NR
+/// terminal conditions imposed of NR_FULL (the full terminal residual).
+template <int NW, int NU, int NR, int NR_FULL>
+struct DirectModelDimensions {
+  static constexpr int nw = NW, nu = NU, nr = NR, nr_full = NR_FULL;
   using VecU = Eigen::Matrix<double, nu, 1>;
   using MatW = Eigen::Matrix<double, nw, nw>;
   using MatWU = Eigen::Matrix<double, nw, nu>;
   using VecR = Eigen::Matrix<double, nr_full, 1>;
   using MatRW = Eigen::Matrix<double, nr_full, nw>;
+};
+
+/// The linearized step and the terminal residual of the cart-pendulum. Tangent coordinates
+/// w = [eta (3); dq (2); dPi (3); dp (2)], R -> R exp(hat eta).
+struct CartPendulumDirectModel : DirectModelDimensions<10, 2, 10, 10> {
+  using System = CartPendulum;
+  using Lgvi = CartPendulumLgvi;
+  using State = CartPendulumState;
+  using Transfer = CartPendulumTransfer;
 
   /// A = dw_{k+1}/dw_k, B0 = dw_{k+1}/du_k, B1 = dw_{k+1}/du_{k+1} of step(in, h, u_k, u_k1) = out
   /// (out must be that step's converged result). Allocates nothing.
@@ -94,17 +100,11 @@ struct CartPendulumDirectModel {
 
 /// The same for the connected bodies: w = [eta1; eta2; dPi1; dPi2]. The residual's last three
 /// rows (Omega2_N - Omega2_f) are the redundant ones, dropped unless kept on request.
-struct ConnectedBodiesDirectModel {
-  static constexpr int nw = 12, nu = 3, nr = 9, nr_full = 12;
+struct ConnectedBodiesDirectModel : DirectModelDimensions<12, 3, 9, 12> {
   using System = ConnectedBodies;
   using Lgvi = ConnectedBodiesLgvi;
   using State = ConnectedBodiesState;
   using Transfer = ConnectedBodiesTransfer;
-  using VecU = Eigen::Matrix<double, nu, 1>;
-  using MatW = Eigen::Matrix<double, nw, nw>;
-  using MatWU = Eigen::Matrix<double, nw, nu>;
-  using VecR = Eigen::Matrix<double, nr_full, 1>;
-  using MatRW = Eigen::Matrix<double, nr_full, nw>;
 
   static void step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
                              const VecU& u_k, const VecU& u_k1, MatW& A, MatWU& B0, MatWU& B1);
