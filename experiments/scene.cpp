@@ -107,6 +107,14 @@ class Reader {
     return *n;
   }
 
+  /// The required `key` of table `t` read by `read` (&Reader::number, &Reader::vec3, ...), named
+  /// "prefix.key" in every message.
+  template <class T>
+  T required(const toml::table& t, std::string_view key, const std::string& prefix,
+             T (Reader::*read)(const toml::node&, const std::string&) const) const {
+    return (this->*read)(required(t, key, prefix), join_key(prefix, key));
+  }
+
   double number(const toml::node& n, const std::string& field) const {
     double v = 0.0;
     if (const auto* f = n.as_floating_point()) {
@@ -177,8 +185,8 @@ class Reader {
 
   Sinusoid sinusoid(const toml::table& t, const std::string& prefix) const {
     Sinusoid s;
-    s.amplitude = vec3(required(t, "amplitude", prefix), prefix + ".amplitude");
-    s.frequency = vec3(required(t, "frequency", prefix), prefix + ".frequency");
+    s.amplitude = required(t, "amplitude", prefix, &Reader::vec3);
+    s.frequency = required(t, "frequency", prefix, &Reader::vec3);
     if (const toml::node* p = t.get("phase")) s.phase = vec3(*p, prefix + ".phase");
     return s;
   }
@@ -186,8 +194,8 @@ class Reader {
   /// A sinusoid with 2 components (the cart's forces); the third component stays 0.
   Sinusoid sinusoid2(const toml::table& t, const std::string& prefix) const {
     Sinusoid s;
-    s.amplitude.head<2>() = vec2(required(t, "amplitude", prefix), prefix + ".amplitude");
-    s.frequency.head<2>() = vec2(required(t, "frequency", prefix), prefix + ".frequency");
+    s.amplitude.head<2>() = required(t, "amplitude", prefix, &Reader::vec2);
+    s.frequency.head<2>() = required(t, "frequency", prefix, &Reader::vec2);
     if (const toml::node* p = t.get("phase")) s.phase.head<2>() = vec2(*p, prefix + ".phase");
     return s;
   }
@@ -238,21 +246,21 @@ Model read_model(const Reader& r, const std::string& system, const toml::table& 
   const auto attitude_initial = [&] {
     AttitudeInitial init;
     if (const toml::node* R = initial.get("R")) init.R = r.mat3(*R, "initial.R");
-    init.Omega = r.vec3(r.required(initial, "Omega", "initial"), "initial.Omega");
+    init.Omega = r.required(initial, "Omega", "initial", &Reader::vec3);
     return init;
   };
   if (system == "free-body") {
-    const Mat3 J = r.inertia(r.required(parameters, "inertia", "parameters"), "parameters.inertia");
+    const Mat3 J = r.required(parameters, "inertia", "parameters", &Reader::inertia);
     FreeBodyModel m{r.physics("parameters.", [&] { return FreeRigidBody(J); }), attitude_initial(), {}};
     if (control != nullptr) m.control = r.sinusoid(*control, "control");
     validate_initial_state(r, AttitudeLgvi<FreeRigidBody>(m.system), m.initial.R, m.initial.Omega);
     return m;
   }
   if (system == "pendulum") {
-    const double mass = r.number(r.required(parameters, "mass", "parameters"), "parameters.mass");
-    const Mat3 J = r.inertia(r.required(parameters, "inertia", "parameters"), "parameters.inertia");
-    const Vec3 rho = r.vec3(r.required(parameters, "rho", "parameters"), "parameters.rho");
-    const double g = r.number(r.required(parameters, "gravity", "parameters"), "parameters.gravity");
+    const double mass = r.required(parameters, "mass", "parameters", &Reader::number);
+    const Mat3 J = r.required(parameters, "inertia", "parameters", &Reader::inertia);
+    const Vec3 rho = r.required(parameters, "rho", "parameters", &Reader::vec3);
+    const double g = r.required(parameters, "gravity", "parameters", &Reader::number);
     PendulumModel m{r.physics("parameters.", [&] { return Pendulum3D(mass, J, rho, g); }),
                     attitude_initial(), {}};
     if (control != nullptr) m.control = r.sinusoid(*control, "control");
@@ -260,33 +268,33 @@ Model read_model(const Reader& r, const std::string& system, const toml::table& 
     return m;
   }
   if (system == "cart-pendulum") {
-    const double cart_mass = r.number(r.required(parameters, "cart_mass", "parameters"), "parameters.cart_mass");
-    const double mass = r.number(r.required(parameters, "mass", "parameters"), "parameters.mass");
-    const Mat3 J = r.inertia(r.required(parameters, "inertia", "parameters"), "parameters.inertia");
-    const Vec3 d = r.vec3(r.required(parameters, "d", "parameters"), "parameters.d");
-    const double g = r.number(r.required(parameters, "gravity", "parameters"), "parameters.gravity");
+    const double cart_mass = r.required(parameters, "cart_mass", "parameters", &Reader::number);
+    const double mass = r.required(parameters, "mass", "parameters", &Reader::number);
+    const Mat3 J = r.required(parameters, "inertia", "parameters", &Reader::inertia);
+    const Vec3 d = r.required(parameters, "d", "parameters", &Reader::vec3);
+    const double g = r.required(parameters, "gravity", "parameters", &Reader::number);
     CartPendulumInitial init;
     if (const toml::node* R = initial.get("R")) init.R = r.mat3(*R, "initial.R");
-    init.Omega = r.vec3(r.required(initial, "Omega", "initial"), "initial.Omega");
-    init.q = r.vec2(r.required(initial, "q", "initial"), "initial.q");
-    init.q_dot = r.vec2(r.required(initial, "q_dot", "initial"), "initial.q_dot");
+    init.Omega = r.required(initial, "Omega", "initial", &Reader::vec3);
+    init.q = r.required(initial, "q", "initial", &Reader::vec2);
+    init.q_dot = r.required(initial, "q_dot", "initial", &Reader::vec2);
     CartPendulumModel m{r.physics("parameters.", [&] { return CartPendulum(cart_mass, mass, J, d, g); }), init, {}};
     if (control != nullptr) m.control = r.sinusoid2(*control, "control");
     validate_initial_state(r, CartPendulumLgvi(m.system), init.R, init.q, init.Omega, init.q_dot);
     return m;
   }
   if (system == "connected-bodies") {
-    const double m1 = r.number(r.required(parameters, "mass1", "parameters"), "parameters.mass1");
-    const Mat3 J1 = r.inertia(r.required(parameters, "inertia1", "parameters"), "parameters.inertia1");
-    const Vec3 d1 = r.vec3(r.required(parameters, "d1", "parameters"), "parameters.d1");
-    const double m2 = r.number(r.required(parameters, "mass2", "parameters"), "parameters.mass2");
-    const Mat3 J2 = r.inertia(r.required(parameters, "inertia2", "parameters"), "parameters.inertia2");
-    const Vec3 d2 = r.vec3(r.required(parameters, "d2", "parameters"), "parameters.d2");
+    const double m1 = r.required(parameters, "mass1", "parameters", &Reader::number);
+    const Mat3 J1 = r.required(parameters, "inertia1", "parameters", &Reader::inertia);
+    const Vec3 d1 = r.required(parameters, "d1", "parameters", &Reader::vec3);
+    const double m2 = r.required(parameters, "mass2", "parameters", &Reader::number);
+    const Mat3 J2 = r.required(parameters, "inertia2", "parameters", &Reader::inertia);
+    const Vec3 d2 = r.required(parameters, "d2", "parameters", &Reader::vec3);
     ConnectedBodiesInitial init;
     if (const toml::node* R = initial.get("R1")) init.R1 = r.mat3(*R, "initial.R1");
     if (const toml::node* R = initial.get("R2")) init.R2 = r.mat3(*R, "initial.R2");
-    init.Omega1 = r.vec3(r.required(initial, "Omega1", "initial"), "initial.Omega1");
-    init.Omega2 = r.vec3(r.required(initial, "Omega2", "initial"), "initial.Omega2");
+    init.Omega1 = r.required(initial, "Omega1", "initial", &Reader::vec3);
+    init.Omega2 = r.required(initial, "Omega2", "initial", &Reader::vec3);
     ConnectedBodiesModel m{r.physics("parameters.", [&] { return ConnectedBodies(m1, J1, d1, m2, J2, d2); }),
                            init, {}};
     if (control != nullptr) m.control = r.sinusoid(*control, "control");
@@ -294,16 +302,15 @@ Model read_model(const Reader& r, const std::string& system, const toml::table& 
     return m;
   }
   // dumbbell
-  const double mass = r.number(r.required(parameters, "mass", "parameters"), "parameters.mass");
-  const double mu = r.number(r.required(parameters, "mu", "parameters"), "parameters.mu");
-  const Vec3 rho = r.vec3(r.required(parameters, "rho", "parameters"), "parameters.rho");
-  const double radius =
-      r.number(r.required(parameters, "sphere_radius", "parameters"), "parameters.sphere_radius");
+  const double mass = r.required(parameters, "mass", "parameters", &Reader::number);
+  const double mu = r.required(parameters, "mu", "parameters", &Reader::number);
+  const Vec3 rho = r.required(parameters, "rho", "parameters", &Reader::vec3);
+  const double radius = r.required(parameters, "sphere_radius", "parameters", &Reader::number);
   RigidBodyInitial init;
   if (const toml::node* R = initial.get("R")) init.R = r.mat3(*R, "initial.R");
-  init.Omega = r.vec3(r.required(initial, "Omega", "initial"), "initial.Omega");
-  init.x = r.vec3(r.required(initial, "x", "initial"), "initial.x");
-  init.v = r.vec3(r.required(initial, "v", "initial"), "initial.v");
+  init.Omega = r.required(initial, "Omega", "initial", &Reader::vec3);
+  init.x = r.required(initial, "x", "initial", &Reader::vec3);
+  init.v = r.required(initial, "v", "initial", &Reader::vec3);
   DumbbellModel m{r.physics("parameters.", [&] { return DumbbellSpacecraft(mass, mu, rho, radius); }),
                   init, {}, {}};
   if (control != nullptr) {
@@ -378,7 +385,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
 
   // Unknown keys first, everywhere: a misspelt key is the likeliest cause of a missing one.
   r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control"});
-  const std::string system = r.string(r.required(doc, "system", ""), "system");
+  const std::string system = r.required(doc, "system", "", &Reader::string);
   if (std::find(kSystems.begin(), kSystems.end(), system) == kSystems.end()) {
     r.fail("system", "unknown system '" + system +
                          "' (expected one of: free-body, pendulum, dumbbell, cart-pendulum, connected-bodies)");
@@ -424,8 +431,8 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   if (const toml::node* d = doc.get("description")) scene.description = r.string(*d, "description");
 
   // [integration], with the command-line overrides named in messages.
-  double h = r.number(r.required(*integration, "h", "integration"), "integration.h");
-  double t_final = r.number(r.required(*integration, "t_final", "integration"), "integration.t_final");
+  double h = r.required(*integration, "h", "integration", &Reader::number);
+  double t_final = r.required(*integration, "t_final", "integration", &Reader::number);
   std::int64_t every = 1;
   if (const toml::node* e = integration->get("output_every")) every = r.integer(*e, "integration.output_every");
   if (const toml::node* f = integration->get("form")) {
