@@ -16,8 +16,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool is_direct(const std::string& system) { return system == "cart-pendulum" || system == "connected-bodies"; }
-
 std::string figure_title(const std::string& system, int number) {
   // Appends only: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
   std::string n = "Fig. ";
@@ -92,12 +90,12 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
       if (code == 1) return 1;
       if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
     }
-    std::string stem = "ocp-";
-    stem.append(system);
     std::vector<std::string> args = {figure_title(system, number),
-                                     require_file(data_dir / (stem + "-trajectory.csv")).string(),
-                                     require_file(data_dir / (stem + "-history.csv")).string()};
-    if (is_direct(system)) args.push_back(require_file(data_dir / (stem + "-knots.csv")).string());
+                                     require_file(ocp_output_file(data_dir, system, "trajectory.csv")).string(),
+                                     require_file(ocp_output_file(data_dir, system, "history.csv")).string()};
+    if (is_direct_system(system)) {
+      args.push_back(require_file(ocp_output_file(data_dir, system, "knots.csv")).string());
+    }
     std::string png_name = "fig";
     png_name.append(std::to_string(number)).append("-").append(system).append(".png");
     const fs::path png = out_dir / png_name;

@@ -237,8 +237,19 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   return cmd;
 }
 
+bool is_direct_system(const std::string& system) {
+  return system == "cart-pendulum" || system == "connected-bodies";
+}
+
+fs::path ocp_output_file(const fs::path& dir, const std::string& system, const std::string& what) {
+  // Appends only: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
+  std::string name = "ocp-";
+  name.append(system).append("-").append(what);
+  return dir / name;
+}
+
 int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std::ostream& out, std::ostream& err) {
-  if (cmd.system == "cart-pendulum" || cmd.system == "connected-bodies") {
+  if (is_direct_system(cmd.system)) {
     return run_ocp_direct_command(cmd, command_line, out, err);
   }
   ocp::ShootingOptions options;

@@ -6,6 +6,7 @@
 //   ocp-SYSTEM-summary.json    cost, violation, iterations, condition numbers, wall time, status
 #pragma once
 
+#include <filesystem>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -41,6 +42,15 @@ struct OcpCommand {
 /// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive
 /// parsing). Returns the subcommand, whose parsed() says whether it was chosen.
 CLI::App* add_ocp_command(CLI::App& app, OcpCommand& options);
+
+/// True for the systems the direct method solves (cart-pendulum, connected-bodies); the others
+/// (pendulum, dumbbell) are solved by indirect shooting.
+bool is_direct_system(const std::string& system);
+
+/// The file `ocp SYSTEM --out dir` writes for `what` ("history.csv", "trajectory.csv",
+/// "summary.json"; the direct method also "knots.csv"): dir/ocp-SYSTEM-what.
+std::filesystem::path ocp_output_file(const std::filesystem::path& dir, const std::string& system,
+                                      const std::string& what);
 
 /// Runs it: solves, writes the three files, prints the summary line to `out`. Returns the exit
 /// status: 0 converged, 2 not converged (files written; the status says why), 1 bad input

@@ -117,7 +117,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
   const ocp_output::Files files = ocp_output::create_files(cmd);
   const fs::path& history = files.history;
   const fs::path& trajectory = files.trajectory;
-  const fs::path knots_file = files.named("-knots.csv");
+  const fs::path knots_file = ocp_output_file(files.dir, cmd.system, "knots.csv");
   constexpr bool cart = Model::nu == 2;
 
   Eigen::VectorXd knot_times(S.knots);

@@ -45,16 +45,13 @@ inline std::string join(const Eigen::VectorXd& v) {
   return s;
 }
 
-/// The output directory of one run and the three files every `ocp` run writes in it.
+/// The output directory of one run and the three files every `ocp` run writes in it
+/// (ocp_output_file names them).
 struct Files {
-  std::filesystem::path dir;  ///< --out
-  std::string stem;           ///< "ocp-SYSTEM"
+  std::filesystem::path dir;         ///< --out
   std::filesystem::path history;     ///< ocp-SYSTEM-history.csv
   std::filesystem::path trajectory;  ///< ocp-SYSTEM-trajectory.csv
   std::filesystem::path summary;     ///< ocp-SYSTEM-summary.json
-
-  /// dir/ocp-SYSTEM<suffix>, for a method's further files (e.g. "-knots.csv").
-  std::filesystem::path named(const std::string& suffix) const { return dir / (stem + suffix); }
 };
 
 /// Creates --out (with its parents) and names the files. Throws OutputError when the directory
@@ -65,10 +62,9 @@ inline Files create_files(const OcpCommand& cmd) {
   std::error_code ec;
   std::filesystem::create_directories(f.dir, ec);
   if (ec) throw OutputError(f.dir.string() + ": cannot create the output directory: " + ec.message());
-  f.stem = "ocp-" + cmd.system;
-  f.history = f.named("-history.csv");
-  f.trajectory = f.named("-trajectory.csv");
-  f.summary = f.named("-summary.json");
+  f.history = ocp_output_file(f.dir, cmd.system, "history.csv");
+  f.trajectory = ocp_output_file(f.dir, cmd.system, "trajectory.csv");
+  f.summary = ocp_output_file(f.dir, cmd.system, "summary.json");
   return f;
 }
 
