@@ -309,7 +309,16 @@ void write_report_json(const ValidateReport& report, const fs::path& file) {
 }
 
 void write_report_markdown(const ValidateReport& report, const fs::path& file) {
+  // First the metrics the paper reports a value for (the README splices this part, up to the
+  // "all metrics" marker, into its validation table), then every metric.
   std::string t = "| metric | kind | paper | accepted | now | verdict | what was run |\n|---|---|---|---|---|---|---|\n";
+  for (const auto& c : report.rows) {
+    if (!c.paper) continue;
+    t += "| `" + c.name + "` | " + to_string(c.kind) + " | " + brief(c.paper) + " | " + brief(c.accepted) + " | " +
+         brief(c.now) + " | " + to_string(c.verdict) + " | " + c.detail + " |\n";
+  }
+  t.append("\n").append(summary_line(report)).append(" (every metric: validation/validation-table.md, below the marker).\n\n<!-- all metrics -->\n\n");
+  t += "| metric | kind | paper | accepted | now | verdict | what was run |\n|---|---|---|---|---|---|---|\n";
   for (const auto& c : report.rows) {
     t += "| `" + c.name + "` | " + to_string(c.kind) + " | " + brief(c.paper) + " | " + brief(c.accepted) + " | " +
          brief(c.now) + " | " + to_string(c.verdict) + " | " + c.detail + " |\n";
