@@ -15,6 +15,7 @@ packages=(
   libbenchmark-dev       # Google Benchmark
   libcli11-dev           # command-line options
   libtomlplusplus-dev    # scene files (TOML)
+  nlohmann-json3-dev     # reading JSON summaries back (validate, suite --check-against)
   gnuplot-nox            # plots (pngcairo)
   fonts-dejavu-core      # a font for the PNG plots (not pulled in without recommends)
 )

@@ -189,6 +189,7 @@ class ModelProbe final : public baselines::Ode {
 
 std::unique_ptr<Method> make_baseline_method(const std::string& name, const MethodOptions& options) {
   const baselines::SolverInfo& info = baselines::solver_info(name);
+  if (options.rotation_update) throw InvalidInput("rotation_update", name + " has no rotation update (LGVI only)");
   if (!options.model) {
     std::string known;
     for (const std::string& n : baselines::coordinate_model_names()) known += (known.empty() ? "" : "|") + n;

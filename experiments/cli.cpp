@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "experiments/atomic_file.hpp"
+#include "experiments/check_against.hpp"
 #include "experiments/figures_command.hpp"
 #include "experiments/method.hpp"
 #include "experiments/ocp_command.hpp"
@@ -15,6 +16,7 @@
 #include "experiments/scene.hpp"
 #include "experiments/simulate.hpp"
 #include "experiments/suite.hpp"
+#include "experiments/validate.hpp"
 
 namespace lgvi::experiments {
 
@@ -86,7 +88,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         "Exit status: 0 success; 1 bad input (scene file or option; one 'error:' line on stderr);\n"
         "2 a run stopped early (rotation update failed, a baseline solver failed or hit gimbal lock;\n"
         "  the CSV of the completed steps is written), or a suite case did not end as expected;\n"
-        "3 results could not be written (file system, gnuplot).");
+        "3 results could not be written (file system, gnuplot);\n"
+        "4 validate or suite --check-against: a metric regressed against its accepted value.");
     std::string scenes_dir = default_scenes_dir().string();
     app.add_option("--scenes-dir", scenes_dir, "Directory of the named scenes (NAME.toml)")->capture_default_str();
 
@@ -153,6 +156,33 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     suite_cmd->add_flag("--no-plots", no_plots, "Skip the gnuplot figures and tables");
     suite_cmd->add_option("--plots-dir", plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
     suite_cmd->add_option("--gnuplot", gnuplot, "gnuplot executable")->capture_default_str();
+    std::string check_against;
+    suite_cmd->add_option("--check-against", check_against,
+                          "After the run, compare OUT/summary.jsonl with DIR/summary.jsonl (an accepted run of the "
+                          "same suite and form) per case and metric, timings ignored; exit 4 if a metric regressed");
+
+    CLI::App* validate_cmd = app.add_subcommand(
+        "validate", "Regression gate: compute the accuracy metrics and compare them with the accepted values");
+    bool validate_quick = false;
+    std::string accepted_file;
+    std::string validate_json;
+    std::string validate_markdown;
+    bool accept = false;
+    std::vector<std::string> only_groups;
+    bool degraded = false;
+    std::string groups_help = "Run only these metric groups:";
+    for (const auto& [n, d] : metric_groups()) groups_help += "\n  " + n + ": " + d;
+    validate_cmd->add_flag("--quick", validate_quick, "The fast form (CI; under two minutes on 2 cores)");
+    validate_cmd->add_option("--accepted", accepted_file,
+                             "Accepted values (default: validation/accepted-quick.txt or accepted-full.txt)");
+    validate_cmd->add_option("--json", validate_json, "Also write the report as JSON to this file");
+    validate_cmd->add_option("--markdown", validate_markdown, "Also write the report as a Markdown table");
+    validate_cmd->add_flag("--accept", accept,
+                           "Rewrite the accepted file with the values now and print what changed (exit 0)");
+    validate_cmd->add_option("--only", only_groups, groups_help)->delimiter(',');
+    validate_cmd->add_flag("--degraded-rotation-update", degraded,
+                           "Run the single-body LGVIs with a degraded rotation update (relative tolerance 1e-9 "
+                           "instead of 16 eps, no polishing step): shows that the gate catches it (exit 4)");
     OcpCommand ocp_options;
     CLI::App* ocp_cmd = add_ocp_command(app, ocp_options);
     FiguresCommand figures_options;
@@ -167,6 +197,42 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     const std::string command_line = quote_command_line(argc, argv);
 
     if (scenes_cmd->parsed()) return list_scenes(scenes_dir, out);
+    if (validate_cmd->parsed()) {
+      ValidateOptions options;
+      options.quick = validate_quick;
+      options.only = only_groups;
+      options.scenes_dir = scenes_dir;
+      if (degraded) {
+        options.rotation.relative_tolerance = 1e-9;
+        options.rotation.polish = false;
+      }
+      if (accept && (!only_groups.empty() || degraded)) {
+        throw InvalidInput("--accept", "accepts the complete default set only (no --only, no --degraded-rotation-update)");
+      }
+      const fs::path file = accepted_file.empty() ? default_accepted_file(validate_quick) : fs::path(accepted_file);
+      const AcceptedFile before = read_accepted(file);
+      const std::string form = validate_quick ? "quick" : "full";
+      if (!before.form.empty() && before.form != form) {
+        throw InvalidInput(file.string(), "holds the " + before.form + " form's values; this run is the " + form +
+                                              " form (" + (validate_quick ? "with" : "without") + " --quick)");
+      }
+      const std::vector<Metric> metrics = compute_metrics(options, out);
+      ValidateReport result = compare(metrics, before, only_groups);
+      result.form = form;
+      result.version = git_describe();
+      print_report(result, out);
+      if (!validate_json.empty()) write_report_json(result, validate_json);
+      if (!validate_markdown.empty()) write_report_markdown(result, validate_markdown);
+      if (accept) {
+        write_accepted(file, metrics, form, git_describe());
+        const std::vector<std::string> diff = accepted_diff(before, metrics);
+        out << "accepted " << metrics.size() << " metrics into " << file.string() << " (" << diff.size()
+            << " changed):\n";
+        for (const std::string& line : diff) out << "  " << line << "\n";
+        return kExitOk;
+      }
+      return result.regressed() ? kExitRegressed : kExitOk;
+    }
     if (ocp_cmd->parsed()) return run_ocp_command(ocp_options, command_line, out, err);
     if (figures_cmd->parsed()) return run_figures_command(figures_options, command_line, out, err);
 
@@ -217,7 +283,19 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         out << "wrote " << files.size() << " figures and tables in " << options.out_dir.string() << "\n";
         return kExitOk;
       }
+      options.quick = quick;
+      if (!check_against.empty() && !fs::exists(fs::path(check_against) / "summary.jsonl")) {
+        throw InvalidInput("--check-against", (fs::path(check_against) / "summary.jsonl").string() + " does not exist");
+      }
       const SuiteResult result = run_suite(suite, options, out);
+      if (!check_against.empty()) {
+        ValidateReport check = check_suite_against(options.out_dir, check_against, suite_name, quick);
+        print_report(check, out);
+        if (check.regressed()) {
+          return report(err, "suite " + suite_name + ": " + std::to_string(check.count(Verdict::Regressed)) +
+                                 " metrics regressed against " + check_against, kExitRegressed);
+        }
+      }
       if (!result.all_ok()) {
         std::string which;
         for (const CaseOutcome& c : result.cases) {

@@ -12,6 +12,7 @@ enum ExitCode : int {
   kExitBadInput = 1,    ///< bad scene file or option: one "error: ..." line on stderr
   kExitRunFailed = 2,   ///< a run stopped early (rotation update failed); its CSV is written
   kExitOutputError = 3, ///< results could not be written (file system, gnuplot) or internal error
+  kExitRegressed = 4,   ///< validate / suite --check-against: a metric regressed against its accepted value
 };
 
 /// Parses the arguments and runs the subcommand. Never throws: every error becomes exactly one

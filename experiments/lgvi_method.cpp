@@ -22,8 +22,8 @@ constexpr const char* kSchemes[] = {"yoshida4", "suzuki4", "yoshida6", "kahan-li
 
 class LgviMethod final : public Method {
  public:
-  LgviMethod() = default;
-  explicit LgviMethod(CompositionScheme scheme) : scheme_(scheme) {}
+  explicit LgviMethod(RotationUpdateOptions options, std::optional<CompositionScheme> scheme = std::nullopt)
+      : options_(options), scheme_(scheme) {}
 
   std::string name() const override { return scheme_ ? kComposedPrefix + std::string(scheme_->name) : "lgvi"; }
 
@@ -158,10 +158,11 @@ std::unique_ptr<Method> make_method(const std::string& name, const MethodOptions
     if (options.rtol || options.atol) {
       throw InvalidInput(options.rtol ? "rtol" : "atol", "the LGVI is a fixed-step method (h from the scene)");
     }
-    if (!composed) return std::make_unique<LgviMethod>();
+    const RotationUpdateOptions rotation = options.rotation_update.value_or(RotationUpdateOptions{});
+    if (!composed) return std::make_unique<LgviMethod>(rotation);
     for (const char* scheme : kSchemes) {
       if (name.substr(std::string(kComposedPrefix).size()) == scheme) {
-        return std::make_unique<LgviMethod>(composition_scheme(scheme));
+        return std::make_unique<LgviMethod>(rotation, composition_scheme(scheme));
       }
     }
   }

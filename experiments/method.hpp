@@ -41,6 +41,10 @@ struct MethodOptions {
   std::optional<std::string> model;
   std::optional<double> rtol;
   std::optional<double> atol;
+  /// The single-body LGVIs' rotation-update solver settings (default: RotationUpdateOptions{}).
+  /// Not a CLI option: `validate --rotation-tolerance` sets it to show the gate catches a
+  /// degraded solver. Rejected for the baselines.
+  std::optional<RotationUpdateOptions> rotation_update;
 };
 
 /// The method names make_method accepts: "lgvi" (order 2), the composed LGVIs "lgvi-yoshida4",

@@ -37,6 +37,7 @@ struct OcpCommand {
   double tolerance = 1e-10;             ///< on the terminal violation
   int starts = 0;                       ///< multistart; 0: the system's default (README)
   long long seed = 1;                   ///< of the random starts
+  int first_start = 0;                  ///< run starts first_start .. first_start + starts - 1
 };
 
 /// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive

@@ -15,6 +15,7 @@
 #include "experiments/json_writer.hpp"
 #include "experiments/ocp_command.hpp"
 #include "experiments/ocp_output.hpp"
+#include "experiments/paper_values.hpp"
 #include "experiments/simulate.hpp"
 #include "lgvi/ocp/direct.hpp"
 
@@ -24,14 +25,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The paper's reported values (sections 4.1, 4.2; validation/paper_values.toml).
-struct DirectPaperValues {
-  double cost;
-  double violation;
-};
-constexpr DirectPaperValues kPaperCartPendulum{297.43, 1.83e-8};
-constexpr DirectPaperValues kPaperConnectedBodies{0.574, 2.48e-8};
-constexpr double kPaperStep = 0.01;  // both sections
+constexpr double kPaperStep = 0.01;  // both sections (validation/paper_values.toml)
 // Default multistart (README "Direct method"): the cart-pendulum converges from the default
 // guess; the connected bodies' landscape has many local optima (costs 0.54 to 90 found).
 constexpr int kCartPendulumStarts = 1;
@@ -109,7 +103,7 @@ double energy(const ConnectedBodiesLgvi& lgvi, const ConnectedBodiesState& s) {
 
 template <class Model>
 int solve_and_write(const typename Model::System& system, const typename Model::Transfer& problem,
-                    const ocp::DirectOptions& options, const DirectPaperValues& paper, const OcpCommand& cmd,
+                    const ocp::DirectOptions& options, const PaperExample& paper, const OcpCommand& cmd,
                     const std::string& command_line, std::ostream& out, std::ostream& err) {
   const ocp::DirectResult<Model> result = ocp::solve_direct(system, problem, options);
   const ocp::DirectSummary& S = result.summary;
@@ -170,7 +164,8 @@ int solve_and_write(const typename Model::System& system, const typename Model::
       {"simulations", std::int64_t{S.simulations}},
       {"wall_seconds", S.wall_seconds},
       {"starts", std::int64_t(S.starts.size())},
-      {"best_start", std::int64_t{S.best_start}},
+      {"first_start", std::int64_t{options.first_start}},
+      {"best_start", std::int64_t{S.best_start >= 0 ? S.starts[S.best_start].index : -1}},
       {"seed", static_cast<std::int64_t>(options.seed)},
       {"start_costs", start_field(S, [](const ocp::DirectStart& s) { return shortest(s.cost); })},
       {"start_violations", start_field(S, [](const ocp::DirectStart& s) { return shortest(s.violation); })},
@@ -181,7 +176,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
       {"knot_values", join(S.knot_values)},
       {"knot_layout", std::string(cart ? "u_x at the knots, then u_y" : "u_1 at the knots, then u_2, then u_3")},
       {"paper_cost", paper.cost},
-      {"paper_violation", paper.violation},
+      {"paper_violation", paper.terminal_violation},
       {"history_csv", history.filename().string()},
       {"trajectory_csv", trajectory.filename().string()},
       {"knots_csv", knots_file.filename().string()},
@@ -260,6 +255,8 @@ int run_ocp_direct_command(const OcpCommand& cmd, const std::string& command_lin
   if (cmd.seed < 0) throw InvalidInput("--seed", "must be >= 0");
   options.knots = cmd.knots;
   options.seed = static_cast<std::uint64_t>(cmd.seed);
+  if (cmd.first_start < 0) throw InvalidInput("--first-start", "must be >= 0");
+  options.first_start = cmd.first_start;
   options.tolerance = cmd.tolerance;
   options.max_evaluations = cmd.max_iterations > 0 ? cmd.max_iterations : kMaxEvaluations;
   const bool cart = cmd.system == "cart-pendulum";
@@ -289,10 +286,10 @@ int run_ocp_direct_command(const OcpCommand& cmd, const std::string& command_lin
   }
   if (cart) {
     return solve_and_write<ocp::CartPendulumDirectModel>(CartPendulum::paper(), cart_problem, options,
-                                                         kPaperCartPendulum, cmd, command_line, out, err);
+                                                         paper_values().cart_pendulum, cmd, command_line, out, err);
   }
   return solve_and_write<ocp::ConnectedBodiesDirectModel>(ConnectedBodies::paper(), bodies_problem, options,
-                                                          kPaperConnectedBodies, cmd, command_line, out, err);
+                                                          paper_values().connected_bodies, cmd, command_line, out, err);
 }
 
 }  // namespace lgvi::experiments

@@ -17,6 +17,7 @@
 
 #include "experiments/atomic_file.hpp"
 #include "experiments/scene.hpp"
+#include "experiments/simulate.hpp"
 
 namespace lgvi::experiments {
 
@@ -190,7 +191,17 @@ void write_summaries(const Suite& suite, const std::vector<std::size_t>& indices
     csv.write(header + "\n");
   }
   for (std::size_t k = 0; k < indices.size(); ++k) {
-    const Fields f = row_fields(suite.cases[indices[k]], outcomes[k]);
+    Fields f = row_fields(suite.cases[indices[k]], outcomes[k]);
+    // Provenance of every row (summary.jsonl only): `suite --check-against` refuses to compare
+    // rows of another suite or form, and reports the versions compared.
+    const auto provenance = [&f](const std::string& key, FieldValue value) {
+      const auto same = [&key](const Field& x) { return x.key == key; };
+      f.erase(std::remove_if(f.begin(), f.end(), same), f.end());
+      f.push_back({key, std::move(value)});
+    };
+    provenance("suite", suite.name);
+    provenance("quick", options.quick);
+    provenance("git_describe", std::string(git_describe()));
     std::string line;
     for (std::size_t j = 0; j < cols.size(); ++j) {
       const auto it = std::find_if(f.begin(), f.end(), [&](const Field& x) { return x.key == cols[j]; });

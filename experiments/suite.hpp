@@ -170,6 +170,7 @@ struct SuiteOptions {
   std::string command_line;
   Shard shard;
   unsigned jobs = 1;  ///< worker threads (>= 1)
+  bool quick = false;  ///< the suite's form, recorded in summary.jsonl
 };
 
 struct CaseOutcome {

@@ -125,7 +125,7 @@ RotationUpdateSummary newton(const Inertia& I, const RotationUpdateOptions& o, c
       // Polish: one more Newton step when |G| is still above 4 eps |h p| (the floor for a
       // well-conditioned J); kept only if it lowers |G|. Ill-conditioned J and h p near a weak
       // axis leave |G| / |h p| at ~1e-14 after the test above; one step usually halves it.
-      if (g > 4.0 * kEpsilon * s.rhs_norm && s.iterations < o.max_iterations) {
+      if (o.polish && g > 4.0 * kEpsilon * s.rhs_norm && s.iterations < o.max_iterations) {
         const Vec3 polished = f - Eigen::PartialPivLU<Mat3>(dH).solve(H);
         Vec3 G2, H2;
         Mat3 dH2;

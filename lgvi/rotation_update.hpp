@@ -50,6 +50,10 @@ struct RotationUpdateOptions {
   double relative_tolerance = 16.0 * 2.220446049250313e-16;
   double absolute_tolerance = 1e-300;
   int max_iterations = 30;  ///< per parametrization
+  /// One extra Newton step when |G| is still above 4 eps |h p| after the test above (see
+  /// rotation_update.cpp). Switched off only to demonstrate that the regression gate catches a
+  /// degraded solver (`validate --degraded-rotation-update`).
+  bool polish = true;
 };
 
 struct RotationUpdateSummary {

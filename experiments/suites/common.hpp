@@ -28,7 +28,7 @@ struct MethodSpec {
   std::string label() const;
   /// File-name part: "lgvi-yoshida4", "cvode-bdf-quaternion".
   std::string id() const;
-  MethodOptions options() const { return {model, rtol, std::nullopt}; }
+  MethodOptions options() const { return {model, rtol, std::nullopt, std::nullopt}; }
 };
 
 /// LGVI order 2, 4 and 6 (quick: lgvi, lgvi-yoshida4, lgvi-kahan-li6; full adds suzuki4 and

@@ -130,7 +130,7 @@ void write_direct_history(const fs::path& file, const ocp::DirectSummary& S, con
                        "cond_inverted", "step_norm", "evaluations", "seconds"});
   int iterate = 0;
   for (const ocp::DirectIteration& r : S.history) {
-    if (!r.gradient || r.start != S.best_start) continue;
+    if (!r.gradient || S.best_start < 0 || r.start != S.starts[S.best_start].index) continue;
     const double row[] = {double(iterate++), r.violation, r.cost, kNan, kNan, kNan, kNan, kNan,
                           double(r.evaluation), r.seconds};
     csv.write_row(row);

@@ -705,6 +705,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
     if (options.max_evaluations < 1) throw InvalidInput("max_evaluations", "must be >= 1");
     if (!(options.tolerance > 0.0)) throw InvalidInput("tolerance", "must be > 0");
     if (options.starts < 1) throw InvalidInput("starts", "must be >= 1");
+    if (options.first_start < 0) throw InvalidInput("first_start", "must be >= 0");
     if (!(options.objective_scale >= 0.0) || !std::isfinite(options.objective_scale)) {
       throw InvalidInput("objective_scale", "must be finite and >= 0");
     }
@@ -732,7 +733,8 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   int best = -1;
   Eigen::VectorXd best_x;
   typename DirectTranscription<Model>::Evaluation best_e;
-  for (int k = 0; k < options.starts; ++k) {
+  for (int i = 0; i < options.starts; ++i) {
+    const int k = options.first_start + i;
     DirectStart st;
     st.index = k;
     Eigen::VectorXd x = k == 0 ? S.initial_knots : start_knots(system, options, k);
@@ -765,7 +767,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
       return fa ? a.cost < b.cost : a.violation < b.violation;
     };
     if (ok && (best < 0 || better(st, S.starts[best]))) {
-      best = k;
+      best = i;
       best_x = x;
       best_e = e;
     }

@@ -143,6 +143,11 @@ struct DirectOptions {
   /// N(0, guess_scale^2) knot values (guess_scale 0: the system's default_guess_scale). The
   /// result is the feasible start of lowest cost.
   int starts = 1;
+  /// The number of the first start run: starts first_start .. first_start + starts - 1 of the
+  /// seeded sequence (start 0 is the default guess), so one start of a multistart can be rerun
+  /// alone (the regression gate reruns the connected bodies' converging start) or a multistart
+  /// split over processes.
+  int first_start = 0;
   std::uint64_t seed = 1;
   double guess_scale = 0.0;
   /// Connected bodies: keep the terminal Omega2 among the constraints (rank deficient; tests).
@@ -215,7 +220,7 @@ struct DirectSummary {
   double wall_seconds = 0.0;
   std::vector<DirectIteration> history;  ///< all starts
   std::vector<DirectStart> starts;
-  int best_start = -1;            ///< the start reported (status, cost, knots)
+  int best_start = -1;            ///< position in `starts` of the start reported (status, cost, knots)
   std::string last_failure;       ///< the last failed trial simulation, if any
 
   bool converged() const { return status == DirectStatus::Converged; }
