@@ -1,8 +1,14 @@
 // SUNDIALS CVODE (v6 API): Adams or BDF, Newton iteration with a dense direct linear solver and
-// the model's Jacobian (or CVODE's difference quotient), scalar tolerances, dense output at the
-// requested times (CV_NORMAL, stop time at the last one), the Euler model's singular set as a
-// root function, CVODE's projection interface for the renormalized quaternion (BDF only).
-// Every return flag is checked; CVODE's error handler is redirected into the status.
+// the model's Jacobian (or CVODE's difference quotient), scalar tolerances, the Euler model's
+// singular set as a root function, CVODE's projection interface for the renormalized quaternion
+// (BDF only). Every return flag is checked; CVODE's error handler is redirected into the status.
+//
+// Output: CVODE steps one step at a time (CV_ONE_STEP) towards the end of the horizon (its stop
+// time; nothing else limits a step), and the output times each step passed are read off its own
+// interpolating polynomial (CVodeGetDky, the Nordsieck history: the method's order). So the steps
+// do not depend on the output times. (CV_NORMAL, one call per output time, would step past each
+// output time and interpolate too, but CVODE estimates its first step from the first call's
+// output interval: the whole run would depend on the output grid.)
 #include <cvodes/cvodes_proj.h>
 
 #include <string>
@@ -99,34 +105,50 @@ Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
     }
   };
 
+  N_Vector dky = N_VClone(cv.y);  // interpolated outputs
+  if (dky == nullptr) {
+    run.stop_failed(t0, "N_VClone failed");
+    return run.stats;
+  }
   while (!run.done() && !run.stopped()) {
-    const std::size_t i = run.next_output();
     collect();
     if (run.stats.steps >= run.settings.max_steps) {
-      run.stop_failed(run.times[i - 1], "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
-      break;
-    }
-    // CVODE's mxstep counts per call: give this call what is left of the run's budget.
-    if (!setup(CVodeSetMaxNumSteps(cv.mem, static_cast<long>(run.settings.max_steps - run.stats.steps)),
-               "CVodeSetMaxNumSteps")) {
+      realtype t_reached = t0;
+      CVodeGetCurrentTime(cv.mem, &t_reached);
+      run.stop_failed(t_reached, "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
       break;
     }
     realtype t = 0.0;
-    const int flag = CVode(cv.mem, run.times[i], cv.y, &t, CV_NORMAL);
+    const int flag = CVode(cv.mem, t_end, cv.y, &t, CV_ONE_STEP);
     collect();
-    if (flag == CV_ROOT_RETURN) {
-      run.stop_singular(t, N_VGetArrayPointer(cv.y));
-    } else if (flag < 0) {
+    if (flag < 0) {
       if (!run.stop_on_rhs_failure()) {
         realtype t_reached = t;
         CVodeGetCurrentTime(cv.mem, &t_reached);
         run.stop_failed(t_reached, cvode_flag_name(flag) + (cv.last_message.empty() ? "" : ": " + cv.last_message));
       }
-    } else {
-      // CV_SUCCESS or CV_TSTOP_RETURN (the last time): y is the state at times[i].
-      run.emit(i, N_VGetArrayPointer(cv.y));
+      break;
     }
+    // CV_SUCCESS, CV_TSTOP_RETURN (t = t_end) or CV_ROOT_RETURN (t the root, y(t) interpolated):
+    // deliver the output times the step passed (before a root only).
+    const bool root = flag == CV_ROOT_RETURN;
+    while (!run.done() && (root ? run.times[run.next_output()] < t : run.times[run.next_output()] <= t)) {
+      const std::size_t i = run.next_output();
+      if (run.times[i] == t) {
+        if (!run.emit(i, N_VGetArrayPointer(cv.y))) break;
+        continue;
+      }
+      const int dky_flag = CVodeGetDky(cv.mem, run.times[i], 0, dky);
+      if (dky_flag < 0) {
+        run.stop_failed(run.times[i], "CVodeGetDky returned " + cvode_flag_name(dky_flag) +
+                                          (cv.last_message.empty() ? "" : " (" + cv.last_message + ")"));
+        break;
+      }
+      if (!run.emit(i, N_VGetArrayPointer(dky))) break;
+    }
+    if (root && !run.stopped()) run.stop_singular(t, N_VGetArrayPointer(cv.y));
   }
+  N_VDestroy(dky);
   collect();
   std::copy(N_VGetArrayPointer(cv.y), N_VGetArrayPointer(cv.y) + run.n, y.begin());
   return run.stats;

@@ -2,12 +2,18 @@
 // step), msbdf (variable-order BDF). All three are driven through a gsl_odeiv2_driver, which
 // msbdf and rk4imp require (they read the error levels of its control object); the stepping
 // itself is a loop of gsl_odeiv2_evolve_apply calls so that every accepted step can be checked
-// (event, finiteness) and, where allowed, renormalized.
+// (event, finiteness) and, where allowed, renormalized. The adaptive methods step freely towards
+// the end of the horizon (only the last step is shortened, to end on it), from an
+// output-independent first step (Run::initial_step); GSL has no dense output, so the output times
+// are read off the Hermite interpolant of each accepted step (HermiteOutput, solver_detail.hpp).
 //
 // GSL facts that shape this adapter (GSL 2.7 sources, ode-initval2/):
-//  - evolve_apply lands exactly on its target time t1 and recomputes dydt_in from y at every
-//    call, so a one-step method may have y modified between calls (rk8pd: free renormalization);
-//    msbdf keeps a Nordsieck history and may not (rejected in resolve_settings).
+//  - evolve_apply lands exactly on its target time t1 (here the end of the horizon) and
+//    recomputes dydt_in from y at every call, so a one-step method may have y modified between
+//    calls (rk8pd: free renormalization); msbdf keeps a Nordsieck history and may not (rejected
+//    in resolve_settings).
+//  - evolve's `count` counts attempts (it is incremented before the error test), `failed_steps`
+//    the rejected ones: the accepted steps are counted here, one per successful evolve_apply.
 //  - rk4imp always takes one step of h and two of h/2 (its error estimate by step doubling)
 //    and returns the two half steps: a "fixed step h" is two Gauss steps of h/2 at about three
 //    times the cost of one. Its modified Newton iteration stops when the estimated error is
@@ -21,6 +27,7 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -68,16 +75,17 @@ Stats run_gsl(Run& run, std::vector<double>& y) {
                                                          : gsl_odeiv2_step_msbdf;
   const double tol_abs = fixed ? run.settings.newton_tolerance : *run.settings.atol;
   const double tol_rel = fixed ? run.settings.newton_tolerance : *run.settings.rtol;
-  const double h0 = fixed ? *run.settings.h : run.initial_step();
-  std::unique_ptr<gsl_odeiv2_driver, DriverDeleter> d(gsl_odeiv2_driver_alloc_y_new(&sys, type, h0, tol_abs, tol_rel));
+  // First step of the adaptive methods: for order 8 (rk8pd) or 1 (msbdf starts at order 1).
+  double h = fixed ? *run.settings.h : run.initial_step(m == "gsl-rk8pd" ? 8 : 1, y.data());
+  std::unique_ptr<gsl_odeiv2_driver, DriverDeleter> d(gsl_odeiv2_driver_alloc_y_new(&sys, type, h, tol_abs, tol_rel));
   if (!d) {
     run.stop_failed(run.times[0], "gsl_odeiv2_driver_alloc_y_new failed");
     return run.stats;
   }
 
   if (fixed) {
-    fixed_step_loop(run, y, [&](double t, double h, std::vector<double>& state) {
-      const int status = gsl_odeiv2_evolve_apply_fixed_step(d->e, nullptr, d->s, &sys, &t, h, state.data());
+    fixed_step_loop(run, y, [&](double t, double hs, std::vector<double>& state) {
+      const int status = gsl_odeiv2_evolve_apply_fixed_step(d->e, nullptr, d->s, &sys, &t, hs, state.data());
       if (status == GSL_SUCCESS) return true;
       if (status != GSL_EBADFUNC) {
         run.stop_failed(t, "step failed: " + gsl_status(status) +
@@ -88,45 +96,54 @@ Stats run_gsl(Run& run, std::vector<double>& y) {
     return run.stats;
   }
 
+  const double t_end = run.times.back();
   double t = run.times[0];
-  double h = h0;
+  // The Hermite output's midpoint (rk8pd only): a step of rk8pd on GSL's stepper, which keeps no
+  // state between steps (evolve recomputes everything from y and t at its next call); msbdf's
+  // Nordsieck history must not be disturbed.
+  std::vector<double> yerr(run.n);
+  HermiteOutput::MidpointStep midpoint;
+  if (m == "gsl-rk8pd" && run.settings.hermite_midpoint) {
+    midpoint = [&](double t0, const double* y0, const double* f0, double hm, double* y_out) {
+      std::copy(y0, y0 + run.n, y_out);
+      return gsl_odeiv2_step_apply(d->s, t0, hm, y_out, yerr.data(), f0, nullptr, &sys) == GSL_SUCCESS;
+    };
+  }
+  HermiteOutput output(run, midpoint);
+  output.start(t, y.data());
   std::vector<double> y_old(run.n);
   while (!run.done() && !run.stopped()) {
-    const std::size_t i = run.next_output();
-    const double t_target = run.times[i];
-    while (t < t_target) {
-      if (run.stats.steps >= run.settings.max_steps) {
-        run.stop_failed(t, "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
-        return run.stats;
-      }
-      const double t_old = t;
-      y_old = y;
-      const int status = gsl_odeiv2_evolve_apply(d->e, d->c, d->s, &sys, &t, t_target, &h, y.data());
-      run.stats.steps = d->e->count;
-      run.stats.rejected_steps = d->e->failed_steps;
-      if (status == GSL_EBADFUNC) {
-        if (!run.stop_on_rhs_failure()) run.stop_failed(t_old, "user function failed");
-        return run.stats;
-      }
-      if (status != GSL_SUCCESS) {
-        run.stop_failed(t_old, "evolve failed: " + gsl_status(status) +
-                                   (status == GSL_FAILURE ? ", the step size fell below the resolution of t" : ""));
-        return run.stats;
-      }
-      if (h < run.min_step() && t < t_target) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "step size underflow (h = %.3g, minimum %.3g)", h, run.min_step());
-        run.stop_failed(t, buf);
-        return run.stats;
-      }
-      if (!run.check_finite(t, y.data())) return run.stats;
-      if (run.singular_at(y.data())) {
-        run.stop_at_event(t_old, y_old.data(), t, y.data());
-        return run.stats;
-      }
-      if (run.ode.renormalizes()) run.ode.renormalize(y.data());
+    if (run.stats.steps >= run.settings.max_steps) {
+      run.stop_failed(t, "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
+      return run.stats;
     }
-    run.emit(i, y.data());
+    const double t_old = t;
+    y_old = y;
+    const int status = gsl_odeiv2_evolve_apply(d->e, d->c, d->s, &sys, &t, t_end, &h, y.data());
+    run.stats.rejected_steps = d->e->failed_steps;
+    if (status == GSL_EBADFUNC) {
+      if (!run.stop_on_rhs_failure()) run.stop_failed(t_old, "user function failed");
+      return run.stats;
+    }
+    if (status != GSL_SUCCESS) {
+      run.stop_failed(t_old, "evolve failed: " + gsl_status(status) +
+                                 (status == GSL_FAILURE ? ", the step size fell below the resolution of t" : ""));
+      return run.stats;
+    }
+    ++run.stats.steps;
+    if (h < run.min_step() && t < t_end) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "step size underflow (h = %.3g, minimum %.3g)", h, run.min_step());
+      run.stop_failed(t, buf);
+      return run.stats;
+    }
+    if (!run.check_finite(t, y.data())) return run.stats;
+    if (run.singular_at(y.data())) {
+      run.stop_at_event(t_old, y_old.data(), t, y.data());
+      return run.stats;
+    }
+    if (run.ode.renormalizes()) run.ode.renormalize(y.data());
+    if (!output.step(t, y.data())) return run.stats;
   }
   return run.stats;
 }

@@ -1,9 +1,11 @@
 // Boost.Odeint (1.74): classic RK4 (fixed step), Dormand-Prince 5(4) with dense output,
-// Runge-Kutta-Fehlberg 7(8) with error control (steps land on each requested time: odeint has
-// no dense output for it), Bulirsch-Stoer with dense output. State type std::vector<double>
-// (allocated once by the steppers' resizers). A right-hand-side failure is thrown out of the
-// system functor and turned into the status here; odeint's own exceptions (step size
-// adjustment failing 500 times in a row) become SolverFailed.
+// Runge-Kutta-Fehlberg 7(8) with error control (odeint has no dense output for it: it steps
+// freely and the output times are read off the Hermite interpolant of solver_detail.hpp),
+// Bulirsch-Stoer with dense output. The adaptive ones step over the whole horizon whatever the
+// output times, from an output-independent first step (Run::initial_step). State type
+// std::vector<double> (allocated once by the steppers' resizers). A right-hand-side failure is
+// thrown out of the system functor and turned into the status here; odeint's own exceptions
+// (step size adjustment failing 500 times in a row) become SolverFailed.
 #include <boost/numeric/odeint.hpp>
 
 #include <algorithm>
@@ -30,13 +32,38 @@ struct System {
   }
 };
 
-/// Dense-output steppers (dopri5, Bulirsch-Stoer): step freely, interpolate the requested times,
-/// watch the event, renormalize by re-initializing (see solver.hpp for the cost).
+/// odeint's default error checker, counting the steps it rejects (scaled error > 1, the test of
+/// controlled_runge_kutta): odeint's dense-output driver retries inside do_step and reports no
+/// count.
 template <class Stepper>
-void dense_loop(Run& run, State& y, Stepper& stepper) {
+class CountingErrorChecker
+    : public odeint::default_error_checker<typename Stepper::value_type, typename Stepper::algebra_type,
+                                           typename Stepper::operations_type> {
+ public:
+  using Base = odeint::default_error_checker<typename Stepper::value_type, typename Stepper::algebra_type,
+                                             typename Stepper::operations_type>;
+  CountingErrorChecker(double atol, double rtol, std::size_t* rejected) : Base(atol, rtol), rejected_(rejected) {}
+
+  template <class StateIn, class Deriv, class Err, class Time>
+  double error(typename Stepper::algebra_type& algebra, const StateIn& x_old, const Deriv& dxdt_old, Err& x_err,
+               Time dt) const {
+    const double e = Base::error(algebra, x_old, dxdt_old, x_err, dt);
+    if (e > 1.0) ++*rejected_;
+    return e;
+  }
+
+ private:
+  std::size_t* rejected_;
+};
+
+/// Dense-output steppers (dopri5, Bulirsch-Stoer): step freely, interpolate the requested times,
+/// watch the event, renormalize by re-initializing (see solver.hpp for the cost). `order`: for
+/// the first step's estimate.
+template <class Stepper>
+void dense_loop(Run& run, State& y, Stepper& stepper, int order) {
   const System system{&run};
   const double t_end = run.times.back();
-  stepper.initialize(y, run.times[0], run.initial_step());
+  stepper.initialize(y, run.times[0], run.initial_step(order, y.data()));
   State x(run.n);
   while (!run.done() && !run.stopped()) {
     if (run.stats.steps >= run.settings.max_steps) {
@@ -90,49 +117,65 @@ void dense_loop(Run& run, State& y, Stepper& stepper) {
   }
 }
 
-/// Error-controlled stepper without dense output (rkf78): try_step loop that lands exactly on
-/// every requested time; the step size suggested by the last unclipped step is kept across
-/// output times so that a fine output grid does not reset it.
+/// Error-controlled stepper without dense output (rkf78): a try_step loop over the whole
+/// horizon (only the last step is shortened, to end on it), the output times read off the
+/// Hermite interpolant of each accepted step and of its midpoint (HermiteOutput).
 template <class Stepper>
-void controlled_loop(Run& run, State& y, Stepper& stepper) {
+void controlled_loop(Run& run, State& y, Stepper& stepper, int order) {
   const System system{&run};
+  const double t_end = run.times.back();
   double t = run.times[0];
-  double dt_free = run.initial_step();
+  double dt_free = run.initial_step(order, y.data());
+  // The Hermite output's midpoint: a step of the same method on a stepper of its own.
+  typename Stepper::stepper_type side;
+  State side_in(run.n), side_dxdt(run.n), side_out(run.n);
+  const HermiteOutput::MidpointStep midpoint = [&](double t0, const double* y0, const double* f0, double hm,
+                                                   double* y_out) {
+    side_in.assign(y0, y0 + run.n);
+    side_dxdt.assign(f0, f0 + run.n);
+    try {
+      side.do_step(system, side_in, side_dxdt, t0, side_out, hm);
+    } catch (const RhsFailure&) {
+      return false;
+    }
+    std::copy(side_out.begin(), side_out.end(), y_out);
+    return true;
+  };
+  HermiteOutput output(run, run.settings.hermite_midpoint ? midpoint : HermiteOutput::MidpointStep{});
+  output.start(t, y.data());
   State y_old(run.n);
   while (!run.done() && !run.stopped()) {
-    const std::size_t i = run.next_output();
-    const double t_target = run.times[i];
-    while (t < t_target) {
-      if (run.stats.steps >= run.settings.max_steps) {
-        run.stop_failed(t, "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
-        return;
-      }
-      const bool clipped = t + dt_free >= t_target;
-      double dt = clipped ? t_target - t : dt_free;
-      const double t_old = t;
-      y_old = y;
-      std::size_t fails = 0;
-      while (stepper.try_step(system, y, t, dt) == odeint::fail) {
-        ++run.stats.rejected_steps;
-        if (++fails >= 500 || dt < run.min_step()) {
-          char buf[160];
-          std::snprintf(buf, sizeof buf, "step size underflow (dt = %.3g, minimum %.3g, %zu rejected attempts)", dt,
-                        run.min_step(), fails);
-          run.stop_failed(t, buf);
-          return;
-        }
-      }
-      ++run.stats.steps;
-      if (clipped && t_target - t < 1e-14 * std::max(1.0, std::abs(t_target))) t = t_target;
-      if (!clipped || dt > dt_free) dt_free = dt;
-      if (!run.check_finite(t, y.data())) return;
-      if (run.singular_at(y.data())) {
-        run.stop_at_event(t_old, y_old.data(), t, y.data());
-        return;
-      }
-      if (run.ode.renormalizes()) run.ode.renormalize(y.data());
+    if (run.stats.steps >= run.settings.max_steps) {
+      run.stop_failed(t, "step budget of " + std::to_string(run.settings.max_steps) + " steps exhausted");
+      return;
     }
-    if (!run.emit(i, y.data())) return;
+    const bool clipped = t + dt_free >= t_end;
+    double dt = clipped ? t_end - t : dt_free;
+    const double t_old = t;
+    y_old = y;
+    std::size_t fails = 0;
+    while (stepper.try_step(system, y, t, dt) == odeint::fail) {
+      ++run.stats.rejected_steps;
+      if (++fails >= 500 || dt < run.min_step()) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "step size underflow (dt = %.3g, minimum %.3g, %zu rejected attempts)", dt,
+                      run.min_step(), fails);
+        run.stop_failed(t, buf);
+        return;
+      }
+    }
+    ++run.stats.steps;
+    if (clipped && t_end - t < 1e-14 * std::max(1.0, std::abs(t_end))) t = t_end;
+    // The step the controller suggests; the last, shortened step's suggestion is kept only if
+    // larger.
+    if (!clipped || dt > dt_free) dt_free = dt;
+    if (!run.check_finite(t, y.data())) return;
+    if (run.singular_at(y.data())) {
+      run.stop_at_event(t_old, y_old.data(), t, y.data());
+      return;
+    }
+    if (run.ode.renormalizes()) run.ode.renormalize(y.data());
+    if (!output.step(t, y.data())) return;
   }
 }
 
@@ -149,16 +192,22 @@ void dispatch(Run& run, State& y) {
   }
   const double rtol = *run.settings.rtol, atol = *run.settings.atol;
   if (m == "odeint-dopri5") {
-    auto stepper = odeint::make_dense_output(atol, rtol, odeint::runge_kutta_dopri5<State>());
-    dense_loop(run, y, stepper);
+    // What make_dense_output(atol, rtol, dopri5) builds, with the error checker counting rejections.
+    using Dopri = odeint::runge_kutta_dopri5<State>;
+    using Controlled = odeint::controlled_runge_kutta<Dopri, CountingErrorChecker<Dopri>>;
+    odeint::dense_output_runge_kutta<Controlled> stepper(
+        Controlled(CountingErrorChecker<Dopri>(atol, rtol, &run.stats.rejected_steps)));
+    dense_loop(run, y, stepper, 5);
   } else if (m == "odeint-rkf78") {
     auto stepper = odeint::make_controlled(atol, rtol, odeint::runge_kutta_fehlberg78<State>());
-    controlled_loop(run, y, stepper);
+    controlled_loop(run, y, stepper, 7);
   } else if (m == "odeint-bs") {
     // Error factors as odeint's defaults (|y| and dt |y'|); the interpolation error is
-    // controlled too, since the requested times are interpolated.
+    // controlled too, since the requested times are interpolated. Its rejected steps are not
+    // reported (odeint retries inside do_step). First step estimated for order 8 (odeint starts
+    // the extrapolation at k = 4 columns, order 2k).
     odeint::bulirsch_stoer_dense_out<State> stepper(atol, rtol, 1.0, 1.0, 0.0, true);
-    dense_loop(run, y, stepper);
+    dense_loop(run, y, stepper, 8);
   } else {
     throw std::logic_error("odeint adapter: unknown method " + m);
   }

@@ -124,6 +124,7 @@ namespace detail {
 
 bool Run::rhs(double t, const double* y, double* f) {
   ++stats.rhs_evaluations;
+  if (output_mode_) ++stats.output_rhs_evaluations;
   Failure failure = Failure::None;
   if (ode.rhs(t, y, f) != RhsStatus::Ok) {
     failure = Failure::Singular;
@@ -131,7 +132,7 @@ bool Run::rhs(double t, const double* y, double* f) {
     failure = Failure::NonFinite;
   }
   if (failure == Failure::None) return true;
-  if (failure_ == Failure::None) {
+  if (failure_ == Failure::None && !output_mode_) {
     failure_ = failure;
     failure_time_ = t;
     failure_state_.assign(y, y + n);
@@ -217,18 +218,23 @@ bool Run::check_finite(double t, const double* y) {
 
 void Run::stop_at_event(double t0, const double* y0, double t1, const double* y1) {
   std::vector<double> f0(n), f1(n), y(n);
-  // Evaluate without counting failures as the run's failure: the end point may be singular.
-  const bool have_slopes = ode.rhs(t0, y0, f0.data()) == RhsStatus::Ok && ode.rhs(t1, y1, f1.data()) == RhsStatus::Ok;
-  stats.rhs_evaluations += 2;
+  // Evaluated without counting failures as the run's failure: the end point is singular.
+  const bool have_f0 = ode.rhs(t0, y0, f0.data()) == RhsStatus::Ok;
+  const bool have_f1 = have_f0 && ode.rhs(t1, y1, f1.data()) == RhsStatus::Ok;
+  stats.rhs_evaluations += have_f0 ? 2 : 1;
   const double dt = t1 - t0;
   auto state_at = [&](double s) {  // s in [0, 1]
-    if (!have_slopes) {
+    if (have_f1) {  // cubic Hermite
+      const double h00 = (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s), h10 = s * (1.0 - s) * (1.0 - s);
+      const double h01 = s * s * (3.0 - 2.0 * s), h11 = s * s * (s - 1.0);
+      for (std::size_t i = 0; i < n; ++i) y[i] = h00 * y0[i] + h10 * dt * f0[i] + h01 * y1[i] + h11 * dt * f1[i];
+    } else if (have_f0) {  // the quadratic through y0, f0 and y1
+      for (std::size_t i = 0; i < n; ++i) {
+        y[i] = y0[i] + s * dt * f0[i] + s * s * (y1[i] - y0[i] - dt * f0[i]);
+      }
+    } else {
       for (std::size_t i = 0; i < n; ++i) y[i] = (1.0 - s) * y0[i] + s * y1[i];
-      return;
     }
-    const double h00 = (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s), h10 = s * (1.0 - s) * (1.0 - s);
-    const double h01 = s * s * (3.0 - 2.0 * s), h11 = s * s * (s - 1.0);
-    for (std::size_t i = 0; i < n; ++i) y[i] = h00 * y0[i] + h10 * dt * f0[i] + h01 * y1[i] + h11 * dt * f1[i];
   };
   // Bisection on the event function: g(s = 0) > 0 >= g(s = 1). 60 halvings reach the
   // resolution of double in s.
@@ -242,19 +248,187 @@ void Run::stop_at_event(double t0, const double* y0, double t1, const double* y1
       hi = mid;
     }
   }
+  const double t_event = t0 + hi * dt;
+  // The output times the step passed before the event (the methods that step freely).
+  while (!done() && times[next_] < t_event) {
+    state_at((times[next_] - t0) / dt);
+    if (!emit(next_, y.data())) return;
+  }
   state_at(hi);
-  stop_singular(t0 + hi * dt, y.data());
+  stop_singular(t_event, y.data());
 }
 
-double Run::initial_step() const {
-  if (settings.initial_step > 0.0) return settings.initial_step;
-  const double span = times.size() > 1 ? times[1] - times[0] : 1.0;
-  return 1e-3 * span;
+double Run::initial_step(int order, const double* y0) {
+  const double span = times.back() - times.front();
+  if (settings.initial_step > 0.0) return std::min(settings.initial_step, span);
+  // Hairer, Norsett, Wanner, Solving ODEs I, sec. II.4, in the error control's scaled RMS norm.
+  std::vector<double> f0(n), y1(n), f1(n);
+  const double t0 = times.front();
+  // Evaluated without counting failures as the run's failure (the first step reports them).
+  auto evaluate = [&](double t, const double* y, double* f) {
+    ++stats.rhs_evaluations;
+    return ode.rhs(t, y, f) == RhsStatus::Ok && std::all_of(f, f + n, [](double v) { return std::isfinite(v); });
+  };
+  auto norm = [&](const double* v) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double scaled = v[i] / (*settings.atol + *settings.rtol * std::abs(y0[i]));
+      sum += scaled * scaled;
+    }
+    return std::sqrt(sum / static_cast<double>(n));
+  };
+  constexpr double kFallback = 1e-6;  // the book's step for a state or rate that is ~0
+  if (!evaluate(t0, y0, f0.data())) return std::min(kFallback, span);
+  const double d0 = norm(y0), d1 = norm(f0.data());
+  const double h0 = std::min(d0 < 1e-5 || d1 < 1e-5 ? kFallback : 0.01 * d0 / d1, span);
+  for (std::size_t i = 0; i < n; ++i) y1[i] = y0[i] + h0 * f0[i];
+  if (!evaluate(t0 + h0, y1.data(), f1.data())) return h0;
+  for (std::size_t i = 0; i < n; ++i) f1[i] -= f0[i];
+  const double d2 = norm(f1.data()) / h0;
+  const double d = std::max(d1, d2);
+  const double h1 = d <= 1e-15 ? std::max(kFallback, 1e-3 * h0) : std::pow(0.01 / d, 1.0 / (order + 1));
+  return std::min({100.0 * h0, h1, span});
 }
 
 double Run::min_step() const {
   return 16.0 * std::numeric_limits<double>::epsilon() *
          std::max(std::abs(times.back()), std::abs(times.back() - times.front()));
+}
+
+HermiteOutput::HermiteOutput(Run& run, MidpointStep midpoint)
+    : run_(run), midpoint_(std::move(midpoint)), plus_(run.n), minus_(run.n), x_(run.n) {
+  for (Point* p : {&a_, &b_, &m_}) {
+    p->y.resize(run.n);
+    p->f.resize(run.n);
+    p->g.resize(run.n);
+  }
+  nodes_.reserve(9);
+  coefficients_.resize(9 * run.n);
+}
+
+void HermiteOutput::start(double t, const double* y) {
+  a_.t = t;
+  std::copy(y, y + run_.n, a_.y.begin());
+  a_.evaluated = false;
+}
+
+namespace {
+/// Counts the evaluations in between as the dense output's (Run::set_output_evaluations).
+struct OutputEvaluations {
+  explicit OutputEvaluations(Run& run) : run(run) { run.set_output_evaluations(true); }
+  ~OutputEvaluations() { run.set_output_evaluations(false); }
+  Run& run;
+};
+}  // namespace
+
+void HermiteOutput::evaluate(Point& p) {
+  // cbrt(eps): the central difference's truncation (~e^2) and round-off (~eps / e) balance.
+  constexpr double kCbrtEps = 6.0554544523933395e-06;
+  const std::size_t n = run_.n;
+  p.evaluated = true;
+  p.level = 0;
+  if (!run_.rhs(p.t, p.y.data(), p.f.data())) return;
+  p.level = 1;
+  // The difference step in time: cbrt(eps) over the fastest relative rate of the state, at most
+  // cbrt(eps) times the horizon. A function of the point alone, so that every output grid
+  // interpolates with the same numbers.
+  double rate = 0.0;
+  for (std::size_t i = 0; i < n; ++i) rate = std::max(rate, std::abs(p.f[i]) / (1.0 + std::abs(p.y[i])));
+  const double span = run_.times.back() - run_.times.front();
+  const double e = kCbrtEps / std::max(rate, 1.0 / span);
+  for (std::size_t i = 0; i < n; ++i) plus_[i] = p.y[i] + e * p.f[i];
+  if (!run_.rhs(p.t + e, plus_.data(), p.g.data())) return;
+  for (std::size_t i = 0; i < n; ++i) minus_[i] = p.y[i] - e * p.f[i];
+  if (!run_.rhs(p.t - e, minus_.data(), plus_.data())) return;
+  for (std::size_t i = 0; i < n; ++i) p.g[i] = (p.g[i] - plus_[i]) / (2.0 * e);
+  p.level = 2;
+}
+
+void HermiteOutput::prepare() {
+  const std::size_t n = run_.n;
+  const double h = b_.t - a_.t;
+  if (!a_.evaluated) evaluate(a_);  // else evaluated as the end of the previous step
+  if (!b_.evaluated) evaluate(b_);
+  bool have_midpoint = false;
+  if (midpoint_ && a_.level >= 1) {
+    m_.t = a_.t + 0.5 * h;
+    have_midpoint = midpoint_(a_.t, a_.y.data(), a_.f.data(), 0.5 * h, m_.y.data()) &&
+                    std::all_of(m_.y.begin(), m_.y.end(), [](double v) { return std::isfinite(v); });
+    if (have_midpoint) evaluate(m_);
+  }
+  // The nodes in s = (t - t0) / h, each repeated 1 + level times (value, h f, h^2 g).
+  struct Node {
+    double s;
+    const Point* p;
+    int conditions;
+  };
+  Node points[3];
+  int count = 0;
+  points[count++] = {0.0, &a_, 1 + a_.level};
+  if (have_midpoint) points[count++] = {0.5, &m_, 1 + m_.level};
+  points[count++] = {1.0, &b_, 1 + b_.level};
+  nodes_.clear();
+  std::vector<const Point*> owner;
+  std::vector<int> order;  // derivative order of each repeated node
+  for (int j = 0; j < count; ++j) {
+    for (int k = 0; k < points[j].conditions; ++k) {
+      nodes_.push_back(points[j].s);
+      owner.push_back(points[j].p);
+      order.push_back(k);
+    }
+  }
+  // Divided differences of each component on the confluent nodes: where the nodes of a
+  // difference coincide it is the derivative over k! (y' = h f, y'' / 2 = h^2 g / 2 in s).
+  const std::size_t m = nodes_.size();
+  double table[9];
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t r = 0; r < m; ++r) table[r] = owner[r]->y[i];
+    coefficients_[i * m] = table[0];
+    for (std::size_t k = 1; k < m; ++k) {
+      for (std::size_t r = m - 1; r >= k; --r) {
+        if (nodes_[r] == nodes_[r - k]) {
+          table[r] = k == 1 ? h * owner[r]->f[i] : 0.5 * h * h * owner[r]->g[i];
+        } else {
+          table[r] = (table[r] - table[r - 1]) / (nodes_[r] - nodes_[r - k]);
+        }
+      }
+      coefficients_[i * m + k] = table[k];
+    }
+  }
+}
+
+void HermiteOutput::interpolate(double t, double* y) const {
+  const std::size_t m = nodes_.size();
+  const double s = (t - a_.t) / (b_.t - a_.t);
+  for (std::size_t i = 0; i < run_.n; ++i) {
+    const double* c = &coefficients_[i * m];
+    double p = c[m - 1];
+    for (std::size_t k = m - 1; k-- > 0;) p = p * (s - nodes_[k]) + c[k];
+    y[i] = p;
+  }
+}
+
+bool HermiteOutput::step(double t1, const double* y1) {
+  b_.t = t1;
+  std::copy(y1, y1 + run_.n, b_.y.begin());
+  b_.evaluated = false;
+  bool prepared = false;
+  while (!run_.done() && run_.times[run_.next_output()] <= t1) {
+    const std::size_t i = run_.next_output();
+    if (run_.times[i] == t1) {
+      if (!run_.emit(i, b_.y.data())) return false;
+      continue;
+    }
+    if (!prepared) {
+      const OutputEvaluations counted(run_);
+      prepare();
+      prepared = true;
+    }
+    interpolate(run_.times[i], x_.data());
+    if (!run_.emit(i, x_.data())) return false;
+  }
+  std::swap(a_, b_);
+  return true;
 }
 
 }  // namespace detail

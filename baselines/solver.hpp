@@ -4,16 +4,28 @@
 // Methods (see solver_list() for one-line descriptions):
 //   cvode-adams, cvode-bdf     SUNDIALS CVODE, variable order; Newton iteration with a dense
 //                              direct linear solver and the model's Jacobian (or CVODE's
-//                              difference quotient); dense output at the requested times
+//                              difference quotient); output from CVODE's interpolant (CVodeGetDky)
 //   odeint-rk4                 Boost.Odeint classic Runge-Kutta 4, fixed step
 //   odeint-dopri5              Dormand-Prince 5(4), error control and dense output
-//   odeint-rkf78               Runge-Kutta-Fehlberg 7(8), error control; lands on each
-//                              requested time (no dense output in odeint)
+//   odeint-rkf78               Runge-Kutta-Fehlberg 7(8), error control; no dense output in
+//                              odeint: output from a quintic Hermite interpolant (below)
 //   odeint-bs                  Bulirsch-Stoer (dense-output variant)
-//   gsl-rk8pd                  GSL odeiv2 Prince-Dormand 8(9), error control; lands on each time
+//   gsl-rk8pd                  GSL odeiv2 Prince-Dormand 8(9), error control; Hermite output
 //   gsl-rk4imp                 GSL odeiv2 implicit Gauss-Legendre (2 stages, order 4,
 //                              symplectic), fixed step; modified Newton with the model's Jacobian
-//   gsl-msbdf                  GSL odeiv2 variable-order BDF (Nordsieck), error control
+//   gsl-msbdf                  GSL odeiv2 variable-order BDF (Nordsieck), error control; Hermite
+//                              output
+//
+// Output times do not change the run. The adaptive methods step freely over the whole horizon
+// (times.front() to times.back(); only the last step is shortened to end there), from a first
+// step that does not depend on the output times (CVODE's own estimate towards the end of the
+// horizon; the others' by Run::initial_step), and the output times are interpolated: CVODE's
+// Nordsieck polynomial, odeint's dense output (dopri5, Bulirsch-Stoer), and for the methods
+// without one (rkf78, rk8pd, msbdf) the quintic Hermite interpolant of each accepted step from y,
+// f and y'' at its ends (order 6 locally; 3 extra RHS evaluations per interpolated step end,
+// counted in rhs_evaluations and output_rhs_evaluations; solver_detail.hpp). The same steps
+// are taken whatever the output grid, so a time that two grids share gets the same sample from
+// both. Fixed-step methods take their grid of h, of which the output times are a subset.
 //
 // Error control: every adaptive method keeps the local error of component i below
 // atol + rtol |y_i| (CVODE: in a weighted RMS norm; odeint, GSL: componentwise, odeint adds the
@@ -25,7 +37,8 @@
 //                         step, the error estimate projected on the tangent space; no restart
 //   odeint-rk4, gsl-rk4imp  after each fixed step, free
 //   odeint-rkf78, gsl-rk8pd  stepping in a loop, normalizing between accepted steps; they keep
-//                         no history, so it costs nothing extra
+//                         no history, so it costs nothing extra (the Hermite output interpolates
+//                         between the normalized step ends)
 //   odeint-dopri5         same loop; the stepper must be re-initialized with the normalized state,
 //                         which discards its first-same-as-last derivative: +1 RHS per step
 //                         (measured +15% RHS evaluations, same steps)
@@ -38,10 +51,13 @@
 //
 // Gimbal lock (Euler model): the event function is acos(sqrt(eps)) - |pitch| (see
 // baselines/coordinates.hpp); CVODE watches it with its root finder (direction: decreasing);
-// the other solvers evaluate it after every step and, on a sign change, find the root on the cubic
-// Hermite interpolant of the step (exact for states cubic in t, O(h^4) otherwise). A right-hand
-// side evaluated on the singular set (a stage that lands there) stops the run too, at that time.
-// Either way: status CoordinateSingularity, failed_time the time, failure_detail the angle.
+// odeint's dense-output steppers locate a sign change on their own dense output; the other
+// solvers evaluate it after every step and, on a sign change, find the root on the cubic Hermite
+// interpolant of the step (exact for states cubic in t, O(h^4) otherwise; the quadratic through
+// y0, f(y0), y1 when f cannot be evaluated at the singular end, as for the Euler model), from
+// which the output times before the root in that step are read too. A right-hand side evaluated
+// on the singular set (a stage that lands there) stops the run too, at that time. Either way:
+// status CoordinateSingularity, failed_time the time, failure_detail the angle.
 #pragma once
 
 #include <cstddef>
@@ -91,8 +107,14 @@ struct SolverSettings {
   /// allows 7 iterations and fails on any non-contracting one, so it cannot be round-off.
   double newton_tolerance = 1e-12;
   /// First step of the adaptive methods that need one (odeint, GSL); CVODE estimates its own.
-  /// 0: 1e-3 of the first output interval.
+  /// 0: estimated from the initial state and the tolerances, whatever the output times
+  /// (detail::Run::initial_step: Hairer-Norsett-Wanner's starting step, 2 RHS evaluations).
   double initial_step = 0.0;
+  /// odeint-rkf78, gsl-rk8pd: their Hermite dense output uses a midpoint step (degree 8, order 9
+  /// locally; ~18 RHS evaluations per interpolated step) or, if false, none (quintic, order 6;
+  /// ~6 RHS). Without it, the steps these methods take at loose tolerances are too long for the
+  /// quintic: see solver_detail.hpp. The run (steps, step-end states) is the same either way.
+  bool hermite_midpoint = true;
 };
 
 /// The settings with defaults filled in, checked against the method and the model. Throws
@@ -107,7 +129,11 @@ using SampleObserver = std::function<bool(std::size_t index, double t, const dou
 
 /// Integrates `ode` from y0 at times[0], calling observer(i, times[i], y(times[i])) for i = 0,
 /// 1, ... (times strictly increasing and finite; fixed-step methods need every interval to be a
-/// whole number of steps h, to 1e-9 relative) until times.back() or the first failure:
+/// whole number of steps h, to 1e-9 relative) until times.back() or the first failure. The
+/// steps depend on times.front() and times.back() only; the other times are interpolated (see
+/// the top of this file). Stats: steps the accepted steps, rejected_steps the rejected ones
+/// (where the library reports them: not odeint-bs), rhs_evaluations every call, of which
+/// output_rhs_evaluations were spent on interpolating output times. Statuses:
 ///   SolverFailed           a solver flag (named, with the solver's message and the time reached)
 ///                          or a non-finite state or right-hand side;
 ///   CoordinateSingularity  the model's singular set (the time and the angle).

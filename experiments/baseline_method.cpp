@@ -1,8 +1,10 @@
 // The continuous-time baselines as Methods: a solver (baselines/solver.hpp) on a coordinate model
 // (baselines/model.hpp) of the scene's system, sampled on the scene's output grid
 // (t_k = k h for k = 0, output_every, 2 output_every, ..., steps), so that the CSV rows line up
-// with the LGVI's. Fixed-step solvers step with the scene's h; adaptive ones with rtol/atol.
-// Controls are the scene's functions of time, evaluated wherever the solver asks.
+// with the LGVI's. Fixed-step solvers step with the scene's h; adaptive ones with rtol/atol, over
+// the whole horizon whatever the grid, interpolating the grid's times (solver.hpp): the output
+// grid does not change their steps. Controls are the scene's functions of time, evaluated
+// wherever the solver asks.
 #include <algorithm>
 #include <cstdint>
 #include <type_traits>
@@ -44,7 +46,7 @@ class BaselineMethod final : public Method {
                                                  "rates and accelerations")});
     }
     if (info_.name == "gsl-rk4imp") f.push_back({"newton_tolerance", settings_.newton_tolerance});
-    f.push_back({"sampling", std::string("output grid (every output_every-th step)")});
+    f.push_back({"sampling", sampling()});
     return f;
   }
 
@@ -156,6 +158,17 @@ class BaselineMethod final : public Method {
       return true;
     };
     return baselines::integrate(info_.name, ode, std::span<const double>(y0.data(), y0.size()), times, s, observer);
+  }
+
+  /// How the output grid is sampled (CSV metadata "sampling").
+  std::string sampling() const {
+    if (info_.step_control == StepControl::Fixed) return "every output_every-th step of h";
+    const std::string& n = info_.name;
+    const char* how = n.rfind("cvode-", 0) == 0 ? "CVODE's interpolating polynomial (CVodeGetDky)"
+                      : n == "odeint-dopri5" || n == "odeint-bs"
+                          ? "odeint's dense output"
+                          : "the quintic Hermite interpolant of the accepted steps (y, f, y'' at their ends)";
+    return std::string("output grid interpolated by ") + how + "; the steps do not depend on it";
   }
 
   baselines::SolverInfo info_;

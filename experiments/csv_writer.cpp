@@ -1,5 +1,6 @@
 #include "experiments/csv_writer.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cassert>
 #include <cerrno>
@@ -79,45 +80,91 @@ std::string to_json(const Fields& fields) {
   return out + "}";
 }
 
+std::string metadata_lines(const Fields& fields) {
+  std::string text;
+  for (const Field& f : fields) text += "# " + one_line(f.key) + ": " + one_line(to_text(f.value)) + "\n";
+  return text;
+}
+
+namespace {
+
+std::string header_line(const std::vector<std::string>& columns) {
+  std::string line;
+  for (std::size_t i = 0; i < columns.size(); ++i) line += (i > 0 ? "," : "") + columns[i];
+  return line + "\n";
+}
+
+/// A blank comment line of exactly `size` >= 2 bytes: '#', spaces, newline.
+std::string padding_line(std::size_t size) {
+  std::string line(1, '#');  // appended, not "#" + std::string: GCC 12 warns falsely (-Wrestrict)
+  line.append(size - 2, ' ');
+  return line + '\n';
+}
+
+}  // namespace
+
 CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> columns)
-    : target_(std::move(target)), columns_(std::move(columns)), spool_(target_) {}
+    : target_(std::move(target)), columns_(std::move(columns)), file_(target_) {}
+
+CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> columns, const Fields& leading,
+                     std::size_t reserve)
+    : target_(std::move(target)), columns_(std::move(columns)), leading_(metadata_lines(leading)), file_(target_),
+      reserve_(std::max<std::size_t>(reserve, 2)) {
+  const std::string header = header_line(columns_);
+  file_.write(leading_);
+  file_.write(padding_line(reserve_));  // replaced at commit
+  file_.write(header);
+  reserve_offset_ = static_cast<long>(leading_.size());
+  rows_offset_ = reserve_offset_ + static_cast<long>(reserve_ + header.size());
+}
 
 void CsvWriter::write_row(std::span<const double> values) {
   assert(values.size() == columns_.size());
-  // One buffer per row; 25 characters hold any %.17g double plus the separator.
+  // One buffer per row; 25 characters hold any double in its shortest round-trip form (at most
+  // 24: "-2.2250738585072014e-308") plus the separator.
   std::array<char, 64 * 26> line;
   char* p = line.data();
   char* const end = line.data() + line.size();
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (end - p < 26) {  // very wide rows: flush the partial line
-      spool_.write(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
+      file_.write(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
       p = line.data();
     }
     if (i > 0) *p++ = ',';
-    p = std::to_chars(p, end, values[i], std::chars_format::general, 17).ptr;
+    p = std::to_chars(p, end, values[i]).ptr;
   }
   *p++ = '\n';
-  spool_.write(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
+  file_.write(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
   ++rows_;
 }
 
-void CsvWriter::commit(const Fields& metadata) {
-  spool_.flush();
+void CsvWriter::commit(const Fields& closing) {
+  const std::string closing_text = metadata_lines(closing);
+  if (reserve_ > 0 && (closing_text.size() == reserve_ || closing_text.size() + 2 <= reserve_)) {
+    // Into the reserved block: the rows stay where they are.
+    file_.flush();
+    if (std::fseek(file_.stream(), reserve_offset_, SEEK_SET) != 0) {
+      throw OutputError(target_.string() + ": cannot seek in the temporary file: " + std::strerror(errno));
+    }
+    file_.write(closing_text);
+    if (closing_text.size() < reserve_) file_.write(padding_line(reserve_ - closing_text.size()));
+    file_.commit();
+    return;
+  }
+  // The metadata does not fit (or no block was reserved): a second file, the rows copied once.
+  file_.flush();
   AtomicFile out(target_);
-  std::string head;
-  for (const Field& f : metadata) head += "# " + one_line(f.key) + ": " + one_line(to_text(f.value)) + "\n";
-  for (std::size_t i = 0; i < columns_.size(); ++i) head += (i > 0 ? "," : "") + columns_[i];
-  head += "\n";
-  out.write(head);
-
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(spool_.temp_path().c_str(), "rb"), &std::fclose);
-  if (!in) throw OutputError(target_.string() + ": cannot reread the spooled rows: " + std::strerror(errno));
+  out.write(leading_ + closing_text + header_line(columns_));
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(file_.temp_path().c_str(), "rb"), &std::fclose);
+  if (!in || std::fseek(in.get(), rows_offset_, SEEK_SET) != 0) {
+    throw OutputError(target_.string() + ": cannot reread the rows: " + std::strerror(errno));
+  }
   std::array<char, 1 << 16> buf;
   std::size_t n = 0;
   while ((n = std::fread(buf.data(), 1, buf.size(), in.get())) > 0) out.write(std::string_view(buf.data(), n));
-  if (std::ferror(in.get())) throw OutputError(target_.string() + ": cannot reread the spooled rows");
+  if (std::ferror(in.get())) throw OutputError(target_.string() + ": cannot reread the rows");
   out.commit();
-  spool_.discard();
+  file_.discard();
 }
 
 }  // namespace lgvi::experiments

@@ -6,6 +6,7 @@
 // symmetric form, composed with the scheme's substeps; they need a symmetric scene form.
 #include <optional>
 #include <type_traits>
+#include <utility>
 
 #include "baselines/solver.hpp"
 #include "experiments/method.hpp"
@@ -47,14 +48,50 @@ class LgviMethod final : public Method {
   }
 
  private:
-  /// integrate() with the flow map itself, or with its composition when a scheme is set.
-  template <class Base, class State, class ControlFn, class Observer>
-  Stats drive(const Base& base, State& state, const Horizon& hz, ControlFn&& control, Observer&& observer) const {
+  /// integrate() with the flow map itself, or with its composition when a scheme is set, handing
+  /// the recorder only the steps it writes: k = 0, output_every, 2 output_every, ..., and the last
+  /// step computed (t_final, or the last good step of a failed run). Other steps cost a
+  /// comparison and two stores: no sample, no conserved quantities, no clock. `to_sample(state,
+  /// sample)` fills the state part of a Sample.
+  template <class Base, class State, class ControlFn, class ToSample>
+  Stats drive(const Base& base, State& state, const Horizon& hz, ControlFn&& control, ToSample&& to_sample,
+              Recorder& recorder) const {
+    Sample sample;
+    std::size_t next_written = 0;  // the next k a row is written for
+    std::size_t last_recorded = 0;
+    bool recorded_any = false;
+    double t_last = 0.0;
+    int iterations_last = 0;
+    const auto observer = [&](std::size_t k, double t, const State& s, const RotationUpdateSummary& r) {
+      if (k == next_written || k == hz.steps) {
+        to_sample(s, sample);
+        sample.t = t;
+        sample.newton_iterations = r.iterations;
+        recorder.record(k, sample);
+        next_written += hz.output_every;
+        last_recorded = k;
+        recorded_any = true;
+      } else {
+        t_last = t;
+        iterations_last = r.iterations;
+      }
+      return true;
+    };
+    Stats stats;
     if (scheme_) {
       const ComposedLgvi<Base> composed(base, *scheme_);
-      return integrate(composed, state, 0.0, hz.h, hz.steps, control, observer);
+      stats = integrate(composed, state, 0.0, hz.h, hz.steps, control, observer);
+    } else {
+      stats = integrate(base, state, 0.0, hz.h, hz.steps, control, observer);
     }
-    return integrate(base, state, 0.0, hz.h, hz.steps, control, observer);
+    // A run stopped between written steps: `state` is its last good step (integrate's contract).
+    if (!recorded_any || last_recorded != stats.steps) {
+      to_sample(std::as_const(state), sample);
+      sample.t = t_last;
+      sample.newton_iterations = iterations_last;
+      recorder.record(stats.steps, sample);
+    }
+    return stats;
   }
 
   template <class Model>
@@ -69,18 +106,13 @@ class LgviMethod final : public Method {
         if (m.moment_control) u.moment = (*m.moment_control)(t);
         return u;
       };
-      Sample sample;
-      const auto observer = [&](std::size_t k, double t, const RigidBodyState& s, const RotationUpdateSummary& r) {
-        sample.t = t;
+      const auto to_sample = [&](const RigidBodyState& s, Sample& sample) {
         sample.R = s.R;
         sample.Omega = lgvi.omega(s);
         sample.x = s.x;
         sample.v = s.v;
-        sample.newton_iterations = r.iterations;
-        recorder.record(k, sample);
-        return true;
       };
-      return drive(lgvi, state, hz, control, observer);
+      return drive(lgvi, state, hz, control, to_sample, recorder);
     } else if constexpr (std::is_same_v<Model, CartPendulumModel>) {
       const CartPendulumLgvi lgvi(m.system, scene.form);
       CartPendulumState state = lgvi.make_state(m.initial.R, m.initial.q, m.initial.Omega, m.initial.q_dot);
@@ -89,50 +121,34 @@ class LgviMethod final : public Method {
         const Vec3 u = (*m.control)(t);
         return Vec2(u.x(), u.y());
       };
-      Sample sample;
-      const auto observer = [&](std::size_t k, double t, const CartPendulumState& s, const RotationUpdateSummary& r) {
+      const auto to_sample = [&](const CartPendulumState& s, Sample& sample) {
         Vec2 q_dot;
-        sample.t = t;
         sample.R = s.R;
         lgvi.velocities(s, sample.Omega, q_dot);
         sample.x << s.q, 0.0;
         sample.v << q_dot, 0.0;
-        sample.newton_iterations = r.iterations;
-        recorder.record(k, sample);
-        return true;
       };
-      return drive(lgvi, state, hz, control, observer);
+      return drive(lgvi, state, hz, control, to_sample, recorder);
     } else if constexpr (std::is_same_v<Model, ConnectedBodiesModel>) {
       const ConnectedBodiesLgvi lgvi(m.system, scene.form);
       ConnectedBodiesState state = lgvi.make_state(m.initial.R1, m.initial.R2, m.initial.Omega1, m.initial.Omega2);
       const auto control = [&m](double t) -> Vec3 { return m.control ? (*m.control)(t) : Vec3::Zero(); };
-      Sample sample;
-      const auto observer = [&](std::size_t k, double t, const ConnectedBodiesState& s,
-                                const RotationUpdateSummary& r) {
-        sample.t = t;
+      const auto to_sample = [&](const ConnectedBodiesState& s, Sample& sample) {
         sample.R = s.R1;
         sample.R2 = s.R2;
         lgvi.velocities(s, sample.Omega, sample.Omega2);
-        sample.newton_iterations = r.iterations;
-        recorder.record(k, sample);
-        return true;
       };
-      return drive(lgvi, state, hz, control, observer);
+      return drive(lgvi, state, hz, control, to_sample, recorder);
     } else {
       using System = std::decay_t<decltype(m.system)>;
       const AttitudeLgvi<System> lgvi(m.system, scene.form, options_);
       AttitudeState state = lgvi.make_state(m.initial.R, m.initial.Omega);
       const auto control = [&m](double t) -> Vec3 { return m.control ? (*m.control)(t) : Vec3::Zero(); };
-      Sample sample;
-      const auto observer = [&](std::size_t k, double t, const AttitudeState& s, const RotationUpdateSummary& r) {
-        sample.t = t;
+      const auto to_sample = [&](const AttitudeState& s, Sample& sample) {
         sample.R = s.R;
         sample.Omega = lgvi.omega(s);
-        sample.newton_iterations = r.iterations;
-        recorder.record(k, sample);
-        return true;
       };
-      return drive(lgvi, state, hz, control, observer);
+      return drive(lgvi, state, hz, control, to_sample, recorder);
     }
   }
 

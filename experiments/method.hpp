@@ -24,10 +24,11 @@ class Method {
   /// The method's settings for a scene (CSV metadata and JSON summary), e.g. the LGVI form and
   /// the rotation-update tolerance.
   virtual Fields settings(const Scene& scene) const = 0;
-  /// Integrates scene.horizon from the scene's initial state, passing the state at every grid
-  /// time t_k (k = 0..steps, or up to the last good step) to `recorder`. Never prints.
-  /// The continuous-time baselines pass the output grid only (k = 0, output_every,
-  /// 2 output_every, ..., steps), so that sampling does not dictate their steps.
+  /// Integrates scene.horizon from the scene's initial state, passing `recorder` the state at
+  /// the output grid's times only: t_k for k = 0, output_every, 2 output_every, ..., and the last
+  /// step computed (steps, or the last good step of a failed run). Never prints. The output grid
+  /// does not change the integration: the LGVI skips the other steps, the adaptive baselines
+  /// step freely and interpolate the grid's times.
   virtual Stats run(const Scene& scene, Recorder& recorder) const = 0;
   /// True for the quaternion baselines: the recorder adds the quaternion_norm_error column.
   virtual bool records_quaternion_norm() const { return false; }

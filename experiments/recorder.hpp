@@ -31,7 +31,9 @@ struct Sample {
   double quaternion_norm_error = 0.0;
 };
 
-/// Worst deviations over every recorded step (not only the rows written to the CSV).
+/// Worst deviations over the recorded samples. The methods hand the recorder only the steps whose
+/// rows are written (k = 0, output_every, 2 output_every, ..., and the last step), so these are
+/// maxima over the CSV's rows: a coarse output_every can miss a peak between rows.
 struct Diagnostics {
   double energy0 = 0.0;
   double max_abs_energy_error = 0.0;     ///< max |E - E0|
@@ -57,7 +59,7 @@ MomentumMap momentum_map(const Model& model);
 class Recorder {
  public:
   /// `csv` may be null (diagnostics only). Rows are written for k % output_every == 0 and for
-  /// the last recorded sample (see finish()).
+  /// the last recorded sample (see finish()); the methods call record() for those steps only.
   /// quaternion_column adds the column quaternion_norm_error (after determinant_error), for
   /// the quaternion baselines.
   Recorder(const Model& model, std::size_t output_every, CsvWriter* csv, bool quaternion_column = false);
@@ -67,8 +69,9 @@ class Recorder {
   /// momentum_error, newton_iterations.
   static std::vector<std::string> columns(const Model& model, bool quaternion_column = false);
 
-  /// Records the sample of step k (k = 0, 1, 2, ... consecutively; the baselines, sampled on the
-  /// output grid only, pass k = 0, output_every, 2 output_every, ... and the last step).
+  /// Records the sample of step k: k = 0, output_every, 2 output_every, ... and the last step
+  /// (every method passes only those; a k that is not a multiple of output_every is held until
+  /// finish(), so it must be the last).
   void record(std::size_t k, const Sample& sample);
   /// Writes the last recorded sample if its k was not a multiple of output_every, so a CSV
   /// always ends at the last step computed (t_final, or the last good step of a failed run).
@@ -79,7 +82,7 @@ class Recorder {
   /// The last recorded sample (the final state of the run, or its last good step).
   const Sample& last() const { return last_; }
   /// Time spent in record() (diagnostics and CSV formatting), to separate it from the
-  /// integrator's own cost.
+  /// integrator's own cost (two clock reads per recorded sample, i.e. per row).
   double seconds() const { return seconds_; }
 
  private:

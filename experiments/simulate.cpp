@@ -28,10 +28,12 @@ Fields RunSummary::to_fields() const {
   f.insert(f.end(), method_settings.begin(), method_settings.end());
   const Fields rest = {
       {"h", horizon.h},
-      {"steps", as_int(stats.steps)},
-      {"steps_requested", as_int(horizon.steps)},
+      {"solver_steps", as_int(stats.steps)},
+      {"rejected_steps", as_int(stats.rejected_steps)},
+      {"grid_steps", as_int(horizon.steps)},
       {"t_final", horizon.t_final},
       {"output_every", as_int(horizon.output_every)},
+      {"output_rows", as_int(output_rows)},
       {"status", std::string(to_string(stats.status))},
       {"status_detail", stats.brief()},
       {"wall_seconds", stats.wall_seconds},
@@ -42,9 +44,10 @@ Fields RunSummary::to_fields() const {
       {"potential_evaluations", as_int(stats.potential_evaluations)},
       {"max_rotation_residual", stats.max_rotation_residual},
       {"rhs_evaluations", as_int(stats.rhs_evaluations)},
+      {"output_rhs_evaluations", as_int(stats.output_rhs_evaluations)},
       {"jacobian_evaluations", as_int(stats.jacobian_evaluations)},
       {"nonlinear_iterations", as_int(stats.nonlinear_iterations)},
-      {"rejected_steps", as_int(stats.rejected_steps)},
+      {"diagnostics_over", std::string("the output_rows written samples (k = 0, output_every, ..., last step)")},
       {"energy0", d.energy0},
       {"max_energy_error", d.max_energy_error()},
       {"energy_error_normalization",
@@ -56,7 +59,6 @@ Fields RunSummary::to_fields() const {
       {"momentum0_norm", d.momentum0_norm},
       {"max_momentum_drift", d.max_momentum_error},
       {"csv", csv.filename().string()},
-      {"csv_rows", as_int(csv_rows)},
   };
   f.insert(f.end(), rest.begin(), rest.end());
   if (d.quaternion_norm_recorded) f.push_back({"max_quaternion_norm_error", d.max_quaternion_norm_error});
@@ -64,42 +66,44 @@ Fields RunSummary::to_fields() const {
 }
 
 RunSummary simulate(const Scene& scene, const Method& method, const SimulateOptions& options) {
-  const bool quaternion_column = method.records_quaternion_norm();
-  CsvWriter csv(options.csv, Recorder::columns(scene.model, quaternion_column));
-  Recorder recorder(scene.model, scene.horizon.output_every, &csv, quaternion_column);
-  const Stats stats = method.run(scene, recorder);
-  recorder.finish();
-
   RunSummary s;
   s.scene = scene.name;
   s.system = scene.system();
   s.method = method.name();
   s.method_settings = method.settings(scene);
   s.horizon = scene.horizon;
-  s.stats = stats;
-  s.diagnostics = recorder.diagnostics();
   s.momentum_map = momentum_map(scene.model).description;
-  s.recording_seconds = recorder.seconds();
   s.csv = options.csv;
-  s.csv_rows = csv.rows();
-  s.final_sample = recorder.last();
 
-  Fields metadata = {{"scene", scene.name},
-                     {"scene_file", source_relative(scene.file)},
-                     {"system", s.system},
-                     {"method", s.method}};
-  metadata.insert(metadata.end(), s.method_settings.begin(), s.method_settings.end());
-  const Fields rest = {{"h", scene.horizon.h},
-                       {"steps", as_int(scene.horizon.steps)},
+  // Everything but the run's outcome is known before it starts: written at once (csv_writer.hpp).
+  Fields leading = {{"scene", scene.name},
+                    {"scene_file", source_relative(scene.file)},
+                    {"system", s.system},
+                    {"method", s.method}};
+  leading.insert(leading.end(), s.method_settings.begin(), s.method_settings.end());
+  const Fields grid = {{"h", scene.horizon.h},
+                       {"grid_steps", as_int(scene.horizon.steps)},
                        {"t_final", scene.horizon.t_final},
                        {"output_every", as_int(scene.horizon.output_every)},
                        {"momentum_map", s.momentum_map},
                        {"git_describe", std::string(git_describe())},
-                       {"command_line", options.command_line},
-                       {"status", stats.brief()}};
-  metadata.insert(metadata.end(), rest.begin(), rest.end());
-  metadata.insert(metadata.end(), options.extra_metadata.begin(), options.extra_metadata.end());
-  csv.commit(metadata);
+                       {"command_line", options.command_line}};
+  leading.insert(leading.end(), grid.begin(), grid.end());
+  leading.insert(leading.end(), options.extra_metadata.begin(), options.extra_metadata.end());
+
+  const bool quaternion_column = method.records_quaternion_norm();
+  CsvWriter csv(options.csv, Recorder::columns(scene.model, quaternion_column), leading);
+  Recorder recorder(scene.model, scene.horizon.output_every, &csv, quaternion_column);
+  s.stats = method.run(scene, recorder);
+  recorder.finish();
+  s.diagnostics = recorder.diagnostics();
+  s.recording_seconds = recorder.seconds();
+  s.output_rows = csv.rows();
+  s.final_sample = recorder.last();
+  csv.commit({{"status", s.stats.brief()},
+              {"solver_steps", as_int(s.stats.steps)},
+              {"rejected_steps", as_int(s.stats.rejected_steps)},
+              {"output_rows", as_int(s.output_rows)}});
   return s;
 }
 

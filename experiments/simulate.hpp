@@ -24,7 +24,7 @@ struct RunSummary {
   std::string momentum_map;    ///< which momentum map the diagnostics track
   double recording_seconds = 0.0;  ///< part of stats.wall_seconds spent recording
   std::filesystem::path csv;
-  std::size_t csv_rows = 0;
+  std::size_t output_rows = 0;  ///< rows written, the samples the diagnostics are taken over
   Sample final_sample;  ///< the last recorded state (t_final, or the last good step)
 
   /// Ordered fields of the JSON summary object (see README/report for their meaning).
@@ -38,9 +38,14 @@ struct SimulateOptions {
 };
 
 /// Integrates `scene` with `method`, writing the CSV atomically (metadata, header, rows of
-/// every output_every-th step and of the last step computed). A run stopped by a failed
-/// rotation update still writes its CSV (status in the metadata); check summary.stats.ok().
-/// Throws OutputError if the CSV cannot be written (no file is left behind then).
+/// every output_every-th step and of the last step computed; the rows are written once, see
+/// csv_writer.hpp). Only those steps reach the recorder, so the diagnostics (maximum energy
+/// error, ...) are over the written rows. Metadata: the scene, the method's settings, the grid
+/// (h, grid_steps = t_final / h, output_every), provenance, then at the end of the run status,
+/// solver_steps (accepted steps: the LGVI's steps, or an adaptive solver's own, which do not
+/// depend on the output grid), rejected_steps and output_rows. A run stopped by a failure still
+/// writes its CSV (status in the metadata); check summary.stats.ok(). Throws OutputError if the
+/// CSV cannot be written (no file is left behind then).
 RunSummary simulate(const Scene& scene, const Method& method, const SimulateOptions& options);
 
 /// `git describe --always --dirty` of the source tree at configure time, or "unknown".

@@ -127,7 +127,9 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
   out.detail = r.stats.brief();
   out.fields = r.to_fields();
   const std::size_t stages = lgvi_stages(spec_.method);
-  const std::size_t evaluations = stages > 0 ? r.stats.steps * stages : r.stats.rhs_evaluations;
+  // The integration's own evaluations: without those spent on interpolating output times.
+  const std::size_t evaluations =
+      stages > 0 ? r.stats.steps * stages : r.stats.rhs_evaluations - r.stats.output_rhs_evaluations;
   out.fields.push_back({"variant", variant});
   out.fields.push_back({"h_omega", scene.horizon.h * initial_rate(scene.model)});
   out.fields.push_back({"evaluations", static_cast<std::int64_t>(evaluations)});

@@ -65,7 +65,8 @@ class SimulateJob final : public Job {
   explicit SimulateJob(SimulateSpec spec, std::shared_ptr<const ReferenceRun> reference = nullptr);
   void validate(const std::filesystem::path& scenes_dir) const override;
   /// Writes ctx.case_id + ".csv". Fields: RunSummary::to_fields() plus "variant", "h_omega"
-  /// (h |Omega0|), "evaluations" (baselines: RHS evaluations; LGVI: substeps, one force and
+  /// (h |Omega0|), "evaluations" (baselines: RHS evaluations of the integration, without the
+  /// output_rhs_evaluations spent on interpolating output times; LGVI: substeps, one force and
   /// moment evaluation each = steps x stages), "integrator_seconds" (wall time minus recording)
   /// and, with a reference, "final_error" and "reference".
   JobResult run(const JobContext& ctx) const override;

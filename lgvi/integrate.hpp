@@ -43,6 +43,7 @@ struct Stats {
   RotationUpdateSummary failure;
   // Continuous-time baselines; zero for the LGVI.
   std::size_t rhs_evaluations = 0;       ///< every right-hand-side call (difference-quotient Jacobians too)
+  std::size_t output_rhs_evaluations = 0;  ///< of rhs_evaluations, those spent interpolating output times
   std::size_t jacobian_evaluations = 0;  ///< Jacobian evaluations requested by the solver
   std::size_t nonlinear_iterations = 0;  ///< implicit solvers' Newton iterations, where reported (CVODE)
   std::size_t rejected_steps = 0;        ///< error-test and convergence failures, where reported

@@ -41,7 +41,7 @@ void add_long_runs(Suite& s, const SuiteParams& params, const std::vector<LongRu
 
 std::string steps_text(const std::vector<const SummaryRow*>& rows) {
   const SummaryRow& r = *rows.front();
-  return r.text("steps_requested") + " steps of h = " + fmt(r.number("h").value_or(0.0)) +
+  return r.text("grid_steps") + " steps of h = " + fmt(r.number("h").value_or(0.0)) +
          " (adaptive: rtol = atol = 1e-6)";
 }
 
@@ -52,7 +52,7 @@ Suite energy_drift_suite(const SuiteParams& params) {
   s.name = "energy-drift";
   s.description = "energy error over 10^5 (quick) or 10^7 steps, every method, free body, pendulum, dumbbell";
   s.columns = simulation_columns();
-  s.columns.push_back("steps_requested");
+  s.columns.push_back("grid_steps");
   const std::size_t steps = params.quick ? 100'000 : 10'000'000;
   const std::vector<MethodSpec> methods = long_run_methods(params.quick);
   add_long_runs(s, params, {{"free-body", steps, methods}, {"pendulum", steps, methods}, {"dumbbell", steps, methods}});
@@ -74,7 +74,7 @@ Suite orthogonality_suite(const SuiteParams& params) {
   s.name = "orthogonality";
   s.description = "||R^T R - I|| and quaternion norm error against time, every method, free body and pendulum";
   s.columns = simulation_columns();
-  s.columns.push_back("steps_requested");
+  s.columns.push_back("grid_steps");
   const std::size_t steps = params.quick ? 50'000 : 1'000'000;
   const std::vector<MethodSpec> methods = long_run_methods(params.quick);
   add_long_runs(s, params, {{"free-body", steps, methods}, {"pendulum", steps, methods}});
@@ -104,7 +104,7 @@ Suite momentum_suite(const SuiteParams& params) {
   s.description =
       "momentum maps against time: pendulum vertical, free body spatial, connected bodies total (LGVIs only)";
   s.columns = simulation_columns();
-  s.columns.push_back("steps_requested");
+  s.columns.push_back("grid_steps");
   s.columns.push_back("momentum_map");
   const std::size_t steps = params.quick ? 50'000 : 1'000'000;
   const std::vector<MethodSpec> methods = long_run_methods(params.quick);

@@ -16,7 +16,7 @@
 //    these horizons the motions do not amplify them much, so the promise of N accepted steps is
 //        N r (1 + max |y_i|) sqrt(n)
 //    (the sqrt(n) also covers the distance summing components). The measured ratios (printed)
-//    are 1e-4 to 0.2: BDF codes sit at the top (low order, error per step), explicit high-order
+//    are 4e-4 to 0.7: BDF codes sit at the top (low order, error per step), explicit high-order
 //    pairs at the bottom. A badly set-up baseline (tolerances not applied, a wrong Jacobian, an
 //    output time missed or interpolated wrongly) lands orders of magnitude above.
 //  - fixed-step fourth-order methods (odeint-rk4, gsl-rk4imp) at step h: the local error of a

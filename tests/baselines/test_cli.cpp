@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <map>
 #include <numbers>
 
 #include "baselines/coordinates.hpp"
@@ -62,7 +63,7 @@ TEST(CliBaselines, WritesTheLgviColumnsOnTheLgviGrid) {
         EXPECT_EQ(csv.meta("rtol"), "1e-10");
         EXPECT_EQ(csv.meta("atol"), "1e-10");
       }
-      EXPECT_EQ(csv.meta("steps"), "105");
+      EXPECT_EQ(csv.meta("grid_steps"), "105");
       std::vector<std::string> header = ref.header;
       if (model.rfind("quaternion", 0) == 0) {
         header.insert(header.begin() + static_cast<long>(ref.column("determinant_error")) + 1, "quaternion_norm_error");
@@ -78,6 +79,39 @@ TEST(CliBaselines, WritesTheLgviColumnsOnTheLgviGrid) {
         EXPECT_LT(csv.rows[k][csv.column("orthogonality_error")], 1e-7);
       }
     }
+  }
+}
+
+TEST(CliBaselines, TheOutputGridDoesNotChangeTheRun) {
+  // The free-body scene (10000 steps of h = 0.005) at --every 1 and --every 1000: an adaptive
+  // solver takes the same steps on both grids (metadata solver_steps, rejected_steps) and the
+  // rows at the shared times are the same numbers (solver.hpp: the samples are a function of the
+  // steps), the final row included.
+  TempDir dir;
+  for (const std::string method : {"gsl-rk8pd", "odeint-rkf78", "gsl-msbdf", "cvode-bdf", "odeint-dopri5"}) {
+    std::map<std::string, CsvParts> runs;
+    for (const std::string every : {"1", "1000"}) {
+      const std::string out = method + "-" + every + ".csv";
+      const CliResult r = run_testbed(dir, {"simulate", "free-body", "--method", method, "--model", "quaternion",
+                                            "--rtol", "1e-6", "--every", every, "--out", out});
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      runs[every] = read_csv(dir.work() / out);
+    }
+    const CsvParts& fine = runs["1"];
+    const CsvParts& coarse = runs["1000"];
+    ASSERT_EQ(fine.rows.size(), 10001u) << method;
+    ASSERT_EQ(coarse.rows.size(), 11u) << method;
+    EXPECT_EQ(fine.meta("output_rows"), "10001");
+    EXPECT_EQ(coarse.meta("output_rows"), "11");
+    EXPECT_EQ(fine.meta("grid_steps"), "10000");
+    EXPECT_EQ(fine.meta("solver_steps"), coarse.meta("solver_steps")) << method;
+    EXPECT_EQ(fine.meta("rejected_steps"), coarse.meta("rejected_steps")) << method;
+    EXPECT_LT(std::stoul(fine.meta("solver_steps")), 10000u) << method << ": steps its own, not the grid's";
+    for (std::size_t i = 0; i < coarse.rows.size(); ++i) {
+      EXPECT_EQ(fine.rows[1000 * i], coarse.rows[i]) << method << " t = " << coarse.rows[i][0];
+    }
+    std::cout << "[ grids    ] " << method << ": " << fine.meta("solver_steps") << " steps, "
+              << fine.meta("rejected_steps") << " rejected on both grids\n";
   }
 }
 

@@ -157,6 +157,7 @@ inline CsvParts read_csv(const fs::path& file) {
   CsvParts csv;
   bool header_seen = false;
   for (const std::string& line : lines_of(read_text(file))) {
+    if (!header_seen && line.find_first_not_of("# ") == std::string::npos) continue;  // a blank comment line
     if (!header_seen && line.rfind("# ", 0) == 0) {
       const std::size_t colon = line.find(": ");
       EXPECT_NE(colon, std::string::npos) << line;

@@ -122,8 +122,9 @@ TEST(CliSuite, BadSceneInTheScenesDirStopsBeforeWritingAnything) {
 // --- successful runs ---------------------------------------------------------------------------
 
 const std::vector<std::string> kMetadataKeys = {
-    "scene", "scene_file", "system", "method", "form", "rotation_update_tolerance", "h", "steps", "t_final",
-    "output_every", "momentum_map", "git_describe", "command_line", "status"};
+    "scene", "scene_file", "system", "method", "form", "rotation_update_tolerance", "h", "grid_steps", "t_final",
+    "output_every", "momentum_map", "git_describe", "command_line", "status", "solver_steps", "rejected_steps",
+    "output_rows"};
 
 std::vector<std::string> expected_header(const std::string& system) {
   std::vector<std::string> h = {"t"};
@@ -185,7 +186,10 @@ TEST_P(CliSimulate, WritesTheCsvAsSpecified) {
   EXPECT_EQ(csv.meta("system"), run.system);
   EXPECT_EQ(csv.meta("method"), "lgvi");
   EXPECT_EQ(csv.meta("form"), "symmetric");
-  EXPECT_EQ(csv.meta("steps"), std::to_string(run.steps));
+  EXPECT_EQ(csv.meta("grid_steps"), std::to_string(run.steps));
+  EXPECT_EQ(csv.meta("solver_steps"), std::to_string(run.steps));
+  EXPECT_EQ(csv.meta("rejected_steps"), "0");
+  EXPECT_EQ(csv.meta("output_rows"), std::to_string(run.rows));
   EXPECT_EQ(std::stod(csv.meta("t_final")), std::stod(run.t_final));
   EXPECT_NE(csv.meta("command_line").find("--t-final"), std::string::npos);
   EXPECT_EQ(csv.meta("status").rfind("completed", 0), 0u);
@@ -231,7 +235,7 @@ TEST(CliSimulate, OverridesReachTheMetadata) {
   const CsvParts csv = read_csv(dir.work() / "p.csv");
   EXPECT_EQ(csv.meta("form"), "printed");
   EXPECT_EQ(csv.meta("h"), "0.002");
-  EXPECT_EQ(csv.meta("steps"), "50");
+  EXPECT_EQ(csv.meta("grid_steps"), "50");
   EXPECT_EQ(csv.meta("output_every"), "5");
   EXPECT_EQ(csv.rows.size(), 11u);
 }
@@ -261,6 +265,33 @@ TEST(CliSimulate, FailedRotationUpdateWritesTheCompletedSteps) {
   EXPECT_EQ(csv.meta("status").rfind("rotation update failed at step 6 (t = 0.75)", 0), 0u) << csv.meta("status");
   ASSERT_EQ(csv.rows.size(), 3u);  // k = 0, 4 and the last good step 6
   EXPECT_EQ(csv.rows.back()[csv.column("t")], 0.75);
+  EXPECT_GT(csv.rows.back()[csv.column("newton_iterations")], 0.0);  // step 6's, kept though not written
+  EXPECT_EQ(csv.meta("solver_steps"), "6");
+  EXPECT_EQ(csv.meta("output_rows"), "3");
+}
+
+TEST(CliSimulate, TheOutputGridDoesNotChangeTheLgvi) {
+  // The LGVI hands the recorder only the written steps; the rows it writes are the same numbers
+  // on any grid (the steps are the same), including the last step when K does not divide them.
+  TempDir dir;
+  const CliResult every1 =
+      run_testbed(dir, {"simulate", "pendulum-controlled", "--t-final", "0.105", "--every", "1", "--out", "a.csv"});
+  const CliResult every20 =
+      run_testbed(dir, {"simulate", "pendulum-controlled", "--t-final", "0.105", "--every", "20", "--out", "b.csv"});
+  ASSERT_EQ(every1.exit_code, 0) << every1.err;
+  ASSERT_EQ(every20.exit_code, 0) << every20.err;
+  const CsvParts a = read_csv(dir.work() / "a.csv");
+  const CsvParts b = read_csv(dir.work() / "b.csv");
+  ASSERT_EQ(a.rows.size(), 106u);
+  ASSERT_EQ(b.rows.size(), 7u);  // k = 0, 20, ..., 100 and 105
+  for (std::size_t i = 0; i < b.rows.size(); ++i) {
+    const std::size_t k = i + 1 < b.rows.size() ? 20 * i : 105;
+    EXPECT_EQ(a.rows[k], b.rows[i]) << "k = " << k;
+  }
+  EXPECT_EQ(a.meta("solver_steps"), "105");
+  EXPECT_EQ(b.meta("solver_steps"), "105");
+  EXPECT_EQ(a.meta("output_rows"), "106");
+  EXPECT_EQ(b.meta("output_rows"), "7");
 }
 
 TEST(CliSimulate, FailureAtTheFirstStepKeepsTheInitialRow) {
