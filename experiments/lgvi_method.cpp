@@ -58,10 +58,7 @@ class LgviMethod final : public Method {
               Recorder& recorder) const {
     Sample sample;
     std::size_t next_written = 0;  // the next k a row is written for
-    std::size_t last_recorded = 0;
-    bool recorded_any = false;
-    double t_last = 0.0;
-    int iterations_last = 0;
+    int iterations_last = 0;       // Newton iterations of the last step (a row if the run stops there)
     const auto observer = [&](std::size_t k, double t, const State& s, const RotationUpdateSummary& r) {
       if (k == next_written || k == hz.steps) {
         to_sample(s, sample);
@@ -69,12 +66,8 @@ class LgviMethod final : public Method {
         sample.newton_iterations = r.iterations;
         recorder.record(k, sample);
         next_written += hz.output_every;
-        last_recorded = k;
-        recorded_any = true;
-      } else {
-        t_last = t;
-        iterations_last = r.iterations;
       }
+      iterations_last = r.iterations;
       return true;
     };
     Stats stats;
@@ -84,10 +77,11 @@ class LgviMethod final : public Method {
     } else {
       stats = integrate(base, state, 0.0, hz.h, hz.steps, control, observer);
     }
-    // A run stopped between written steps: `state` is its last good step (integrate's contract).
-    if (!recorded_any || last_recorded != stats.steps) {
+    // A run stopped between written steps: `state` is its last good step k = stats.steps, at
+    // t = k h (integrate's grid, from t0 = 0), and its row is still owed.
+    if (stats.steps % hz.output_every != 0 && stats.steps != hz.steps) {
       to_sample(std::as_const(state), sample);
-      sample.t = t_last;
+      sample.t = static_cast<double>(stats.steps) * hz.h;
       sample.newton_iterations = iterations_last;
       recorder.record(stats.steps, sample);
     }

@@ -24,6 +24,7 @@
 #include "experiments/recorder.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/suite.hpp"
+#include "experiments/suites/common.hpp"
 #include "experiments/validate.hpp"
 
 namespace lgvi::experiments {
@@ -43,27 +44,23 @@ std::string format(const char* fmt, double x) {
   return buf;
 }
 
-/// A method of the harness with its options, as the metrics name it.
-struct MethodSpec {
-  std::string label;  ///< metric name component: "lgvi", "lgvi-printed", "odeint-rk4-quaternion"
-  std::string method;
-  std::optional<std::string> model;
-  std::optional<double> rtol;
+/// A method of the harness (the suites' MethodSpec: name, model, rtol) as the metrics name and
+/// run it.
+struct MethodUnderTest {
+  std::string label;             ///< metric name component: "lgvi", "lgvi-printed", "odeint-rk4-quaternion"
+  suites::MethodSpec spec;
   std::optional<LgviForm> form;  ///< LGVI form override
   double order = 0.0;            ///< nominal order (fixed-step methods)
   /// Order metrics: multiple of the base step count. yoshida6's error constant is ~10^3 times
   /// kahan-li6's (its substeps reach 1.7 h against 0.4 h): it needs twice the steps to be
   /// in its asymptotic regime.
   std::size_t step_factor = 1;
-  bool lgvi() const { return method.rfind("lgvi", 0) == 0; }
 };
 
-std::unique_ptr<Method> make(const MethodSpec& spec, const ValidateOptions& options) {
-  MethodOptions o;
-  o.model = spec.model;
-  o.rtol = spec.rtol;
-  if (spec.lgvi()) o.rotation_update = options.rotation;
-  return make_method(spec.method, o);
+std::unique_ptr<Method> make(const MethodUnderTest& m, const ValidateOptions& options) {
+  MethodOptions o = m.spec.options();
+  if (m.spec.is_lgvi()) o.rotation_update = options.rotation;
+  return make_method(m.spec.method, o);
 }
 
 struct Run {
@@ -131,38 +128,38 @@ std::size_t base_steps(double order, const char* scene) {
   return fast ? 2 * n : n;
 }
 
-std::vector<MethodSpec> order_methods() {
+std::vector<MethodUnderTest> order_methods() {
   return {
-      {"lgvi", "lgvi", {}, {}, LgviForm::Symmetric, 2},
-      {"lgvi-printed", "lgvi", {}, {}, LgviForm::Printed, 1},
-      {"lgvi-yoshida4", "lgvi-yoshida4", {}, {}, LgviForm::Symmetric, 4},
-      {"lgvi-suzuki4", "lgvi-suzuki4", {}, {}, LgviForm::Symmetric, 4},
-      {"lgvi-yoshida6", "lgvi-yoshida6", {}, {}, LgviForm::Symmetric, 6, 2},
-      {"lgvi-kahan-li6", "lgvi-kahan-li6", {}, {}, LgviForm::Symmetric, 6},
-      {"odeint-rk4-quaternion", "odeint-rk4", "quaternion", {}, {}, 4},
-      {"odeint-rk4-matrix", "odeint-rk4", "matrix", {}, {}, 4},
-      {"gsl-rk4imp-quaternion", "gsl-rk4imp", "quaternion", {}, {}, 4},
+      {"lgvi", {"lgvi"}, LgviForm::Symmetric, 2},
+      {"lgvi-printed", {"lgvi"}, LgviForm::Printed, 1},
+      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric, 4},
+      {"lgvi-suzuki4", {"lgvi-suzuki4"}, LgviForm::Symmetric, 4},
+      {"lgvi-yoshida6", {"lgvi-yoshida6"}, LgviForm::Symmetric, 6, 2},
+      {"lgvi-kahan-li6", {"lgvi-kahan-li6"}, LgviForm::Symmetric, 6},
+      {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}, 4},
+      {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}, 4},
+      {"gsl-rk4imp-quaternion", {"gsl-rk4imp", "quaternion"}, {}, 4},
   };
 }
 
 void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
   for (const OrderScene& os : kOrderScenes) {
-    for (const MethodSpec& spec : order_methods()) {
+    for (const MethodUnderTest& mut : order_methods()) {
       const auto t0 = Clock::now();
-      const std::unique_ptr<Method> method = make(spec, options);
-      const std::size_t n0 = base_steps(spec.order, os.scene) * spec.step_factor;
+      const std::unique_ptr<Method> method = make(mut, options);
+      const std::size_t n0 = base_steps(mut.order, os.scene) * mut.step_factor;
       // Nominal order: the printed form is first order where a potential or a control acts at
       // the step's end; without either (the free body and the cart scene have no control, the
       // free body no potential, the cart's potential is split in eq. 29 already) it is the
       // symmetric form.
       const bool printed_is_symmetric = std::string(os.scene) == "free-body" || std::string(os.scene) == "cart-pendulum";
-      const double nominal = spec.form == LgviForm::Printed && printed_is_symmetric ? 2.0 : spec.order;
+      const double nominal = mut.form == LgviForm::Printed && printed_is_symmetric ? 2.0 : mut.order;
       std::vector<Sample> finals;
       bool ok = true;
       for (int j = 0; j < 4 && ok; ++j) {
         const std::size_t n = n0 << j;
         const Scene scene = scene_with(options, os.scene, os.t_final / static_cast<double>(n), os.t_final,
-                                       static_cast<std::int64_t>(n), spec.form);
+                                       static_cast<std::int64_t>(n), mut.form);
         const Run r = run_scene(scene, *method);
         ok = r.stats.ok();
         finals.push_back(r.last);
@@ -181,7 +178,7 @@ void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
         detail = std::string(os.scene) + ": a run failed";
       }
       Metric m;
-      m.name = "order/" + std::string(os.scene) + "/" + spec.label;
+      m.name = "order/" + std::string(os.scene) + "/" + mut.label;
       m.kind = MetricKind::Order;
       m.value = p;
       m.nominal = nominal;
@@ -201,17 +198,17 @@ void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
 constexpr const char* kConservationScenes[] = {"free-body", "pendulum", "dumbbell", "cart-pendulum",
                                                "connected-bodies"};
 
-std::vector<MethodSpec> conservation_methods() {
+std::vector<MethodUnderTest> conservation_methods() {
   return {
-      {"lgvi", "lgvi", {}, {}, LgviForm::Symmetric, 2},
-      {"lgvi-printed", "lgvi", {}, {}, LgviForm::Printed, 1},
-      {"lgvi-yoshida4", "lgvi-yoshida4", {}, {}, LgviForm::Symmetric, 4},
-      {"odeint-rk4-quaternion", "odeint-rk4", "quaternion", {}, {}, 4},
-      {"odeint-rk4-quaternion-renormalized", "odeint-rk4", "quaternion-renormalized", {}, {}, 4},
-      {"odeint-rk4-matrix", "odeint-rk4", "matrix", {}, {}, 4},
-      {"cvode-bdf-quaternion-rtol1e-8", "cvode-bdf", "quaternion", 1e-8, {}, 0},
-      {"gsl-rk8pd-quaternion-rtol1e-8", "gsl-rk8pd", "quaternion", 1e-8, {}, 0},
-      {"odeint-dopri5-matrix-rtol1e-8", "odeint-dopri5", "matrix", 1e-8, {}, 0},
+      {"lgvi", {"lgvi"}, LgviForm::Symmetric, 2},
+      {"lgvi-printed", {"lgvi"}, LgviForm::Printed, 1},
+      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric, 4},
+      {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}, 4},
+      {"odeint-rk4-quaternion-renormalized", {"odeint-rk4", "quaternion-renormalized"}, {}, 4},
+      {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}, 4},
+      {"cvode-bdf-quaternion-rtol1e-8", {"cvode-bdf", "quaternion", 1e-8}, {}, 0},
+      {"gsl-rk8pd-quaternion-rtol1e-8", {"gsl-rk8pd", "quaternion", 1e-8}, {}, 0},
+      {"odeint-dopri5-matrix-rtol1e-8", {"odeint-dopri5", "matrix", 1e-8}, {}, 0},
   };
 }
 
@@ -220,36 +217,36 @@ void conservation_metrics(const ValidateOptions& options, std::vector<Metric>& o
   for (const char* scene_name : kConservationScenes) {
     const Scene base = load_scene(options.scenes_dir / (std::string(scene_name) + ".toml"));
     const double h = base.horizon.h;
-    for (const MethodSpec& spec : conservation_methods()) {
-      const std::unique_ptr<Method> method = make(spec, options);
-      const Scene scene = scene_with(options, scene_name, h, h * static_cast<double>(steps), 1, spec.form);
+    for (const MethodUnderTest& mut : conservation_methods()) {
+      const std::unique_ptr<Method> method = make(mut, options);
+      const Scene scene = scene_with(options, scene_name, h, h * static_cast<double>(steps), 1, mut.form);
       const Run r = run_scene(scene, *method);
       const Diagnostics& d = r.diagnostics;
       const double nan = std::numeric_limits<double>::quiet_NaN();
       const bool ok = r.stats.ok();
       const double floor = kEps * std::sqrt(static_cast<double>(steps));
-      const std::string subject = std::string(scene_name) + "/" + spec.label;
+      const std::string subject = std::string(scene_name) + "/" + mut.label;
       const std::string detail = std::string(scene_name) + ", h = " + format("%g", h) + ", " + std::to_string(steps) +
-                                 " steps" + (spec.rtol ? ", rtol = " + format("%g", *spec.rtol) : std::string()) +
+                                 " steps" + (mut.spec.rtol ? ", rtol = " + format("%g", *mut.spec.rtol) : std::string()) +
                                  (ok ? "" : ": " + r.stats.brief());
       const auto add = [&](const std::string& quantity, double value, bool kept) {
         Metric m;
         m.name = quantity + "/" + subject;
         m.kind = kept ? MetricKind::RoundOff : MetricKind::Truncation;
-        m.floor = floor;
         m.value = ok ? value : nan;
+        m.floor = floor;
         m.seconds = r.seconds;
         m.detail = detail;
         out.push_back(m);
       };
       add("energy", d.max_energy_error(), false);
       const double momentum = d.momentum0_norm > 0.0 ? d.max_momentum_error / d.momentum0_norm : d.max_momentum_error;
-      add("momentum", momentum, spec.lgvi());
-      add("orthogonality", d.max_orthogonality_error, spec.lgvi() || spec.model != "matrix");
+      add("momentum", momentum, mut.spec.is_lgvi());
+      add("orthogonality", d.max_orthogonality_error, mut.spec.is_lgvi() || mut.spec.model != "matrix");
       if (d.quaternion_norm_recorded) {
-        add("quaternion-norm", d.max_quaternion_norm_error, spec.model == "quaternion-renormalized");
+        add("quaternion-norm", d.max_quaternion_norm_error, mut.spec.model == "quaternion-renormalized");
       }
-      if (spec.lgvi() && ok) {
+      if (mut.spec.is_lgvi() && ok) {
         Metric m;
         m.name = "newton/" + subject;
         m.kind = MetricKind::Count;
@@ -311,25 +308,35 @@ std::map<std::string, JobResult> run_suite_cases(const std::string& suite_name, 
 
 void linearization_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
   ScratchDir scratch;
-  const std::vector<double> steps = {0.01, 0.005, 0.0025};
-  for (const char* scene : {"pendulum", "free-body"}) {
-    for (const char* T : {"0.5", "2"}) {
-      std::vector<std::string> ids;
-      for (const double h : steps) ids.push_back(std::string(scene) + "-T" + T + "-lgvi-h" + format("%g", h));
-      std::map<std::string, double> seconds;
-      const auto results = run_suite_cases("sensitivity", ids, options, scratch.path, seconds);
+  const char* const scenes[] = {"pendulum", "free-body"};
+  const char* const horizons[] = {"0.5", "2"};
+  const double steps[] = {0.01, 0.005, 0.0025};
+  const auto case_id = [](const char* scene, const char* T, double h) {
+    return std::string(scene) + "-T" + T + "-lgvi-h" + format("%g", h);
+  };
+  std::vector<std::string> ids;
+  for (const char* scene : scenes) {
+    for (const char* T : horizons) {
+      for (const double h : steps) ids.push_back(case_id(scene, T, h));
+    }
+  }
+  std::map<std::string, double> seconds;
+  const auto results = run_suite_cases("sensitivity", ids, options, scratch.path, seconds);
+  for (const char* scene : scenes) {
+    for (const char* T : horizons) {
       std::vector<double> differences;
-      for (const std::string& id : ids) {
+      for (const double h : steps) {
+        const std::string id = case_id(scene, T, h);
         const Fields& f = results.at(id).fields;
-        const std::string subject = std::string(scene) + "/T" + T + "/h" + id.substr(id.rfind("-h") + 2);
-        Metric fd;
-        fd.name = "linearization/" + subject + "/vs-differences";
+        const std::string subject = std::string(scene) + "/T" + T + "/h" + format("%g", h);
         // The differences' own error (truncation O(a^2) and round-off eps/a of the central
         // differences) is what |Phi - Phi_fd| measures when the linearization is exact: gated
         // as round-off over the differences' estimate of their own error.
+        Metric fd;
+        fd.name = "linearization/" + subject + "/vs-differences";
         fd.kind = MetricKind::RoundOff;
-        fd.floor = field_number(f, "fd_estimate");
         fd.value = field_number(f, "fd_error");
+        fd.floor = field_number(f, "fd_estimate");
         fd.seconds = seconds[id];
         fd.detail = "LGVI transition matrix vs central differences of the flow, relative (suite sensitivity, " + id + ")";
         out.push_back(fd);
@@ -447,8 +454,8 @@ void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
       m.name = "ocp/" + system + "/" + what;
       m.kind = kind;
       m.value = value;
-      m.paper = p;
       m.floor = floor;
+      m.paper = p;
       m.seconds = seconds;
       m.detail = detail;
       out.push_back(m);
