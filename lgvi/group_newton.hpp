@@ -147,6 +147,14 @@ RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual&& resi
   return s;
 }
 
+/// vee(A K - K A^T) for symmetric K (the term of eqs. 32, 40, 41 in A = F - I): with X = A K,
+/// K A^T = X^T, so it is (X21 - X12, X02 - X20, X10 - X01), six entries of one product instead of
+/// two whole products. Precondition: K exactly symmetric (Inertia::from makes J_d so).
+inline Vec3 vee_of_skew_product(const Mat3& A, const Mat3& K) {
+  const auto x = [&](int i, int j) { return A.row(i).dot(K.col(j)); };
+  return Vec3(x(2, 1) - x(1, 2), x(0, 2) - x(2, 0), x(1, 0) - x(0, 1));
+}
+
 /// d/dxi vee(F exp(hat xi) K - K exp(hat xi)^T F^T) at xi = 0 for symmetric K (F = I + A):
 /// F (tr(K F) I - K F) (from hat(xi) B + B^T hat(xi) = hat((tr B I - B) xi), B = K F).
 inline Mat3 rotation_update_jacobian(const Mat3& F, const Mat3& K) {

@@ -1,12 +1,14 @@
-// THE PRE-OPTIMIZATION REFERENCE of the rotation update and of the LGVI steps: verbatim copies
-// of lgvi/rotation_update.cpp (Newton with a generic Newton matrix and PartialPivLU solves),
-// AttitudeLgvi::step and DumbbellLgvi::step (lgvi/lgvi.hpp), solve_on_rotations
-// and rotation_update_jacobian (lgvi/group_newton.hpp) and the multibody steps (lgvi/multibody_lgvi.cpp) as they were before
-// the closed-form fast path (issue 12). Only the wrapping differs: namespace lgvi::reference,
-// `inline`, and the steps as free functions taking the integrator's members as arguments (same
-// parameter names, so the bodies are unchanged). Used by test_reference_agreement.cpp to show that the fast
-// path gives the same results to round-off, and by lgvi-benchmarks to time before and after in
-// one run. Do not optimize this file.
+// THE PRE-OPTIMIZATION REFERENCE of the rotation update and of the LGVI steps: verbatim copies,
+// as they were before the closed-form fast path of issue 12, of
+//   lgvi/rotation_update.cpp   Newton with a generic Newton matrix and PartialPivLU solves;
+//   lgvi/lgvi.hpp              AttitudeLgvi::step and DumbbellLgvi::step;
+//   lgvi/group_newton.hpp      solve_on_rotations and rotation_update_jacobian;
+//   lgvi/multibody_lgvi.cpp    CartPendulumLgvi::step and ConnectedBodiesLgvi::step.
+// Only the wrapping differs: namespace lgvi::reference, `inline`, and the steps as free
+// functions taking the integrator's members as arguments (same parameter names, so the bodies
+// are unchanged). Used by test_reference_agreement.cpp to show that the fast path gives the same
+// results to round-off, and by lgvi-benchmarks to time before and after in one run. Do not
+// optimize this file.
 #pragma once
 
 #include <array>
