@@ -112,10 +112,10 @@ class RotationUpdateSolver {
   double J_norm_;  ///< ||J||_F, the scale of G's terms in the convergence test
 };
 
-/// F = I + a hat(f) + b hat(f)^2 for the given parametrization.
-inline Mat3 rotation_from(Parametrization p, const Vec3& f) {
-  return p == Parametrization::Cayley ? so3::cayley(f) : so3::exp(f);
-}
+/// F = I + a hat(f) + b hat(f)^2 for the given parametrization: so3::cayley(f), or exp(hat f)
+/// with the solver's coefficients (ExponentialChart::rodrigues, equal to so3::exp to an ulp).
+/// The F that `solve` returns is rotation_from(parametrization, f) to the last bit.
+Mat3 rotation_from(Parametrization p, const Vec3& f);
 
 // --- Implementation: the inline hot path ---------------------------------------------------------
 
@@ -200,6 +200,8 @@ struct CayleyChart {
     double h_per_g, size_h;
   };
   static V3 warm_start(const Inertia& I, const V3& hp) { return 0.5 * (m3(I.J_inverse) * hp); }
+  /// F = cay(f) (so3::cayley).
+  static Mat3 rotation(const V3& f, const Evaluation& /*e*/) { return so3::cayley(vec3(f)); }
   static void evaluate(const M3& J, const V3& hp, const V3& f, Evaluation& e) {
     e.Jf = J * f;
     const double f2 = dot(f, f);
@@ -224,10 +226,28 @@ struct ExponentialChart {
     V3 H, Jf, fxJf;
     double t, a, b, h_per_g, size_h;
   };
+  /// so3::rodrigues from one sin/cos pair of t/2 (one sincos call instead of two sin calls):
+  /// with q = sin(t/2) / (t/2), a = sin(t)/t = q cos(t/2) and b = (1 - cos t)/t^2 = q^2 / 2, the
+  /// half-angle form of so3::rodrigues (no cancellation). a carries ~1 ulp more than sin(t)/t,
+  /// below G's evaluation floor (8 eps of its term size, rotation_update test). Same Taylor
+  /// branch below t = 1e-4.
+  static so3::RodriguesCoefficients rodrigues(double t) {
+    if (t < 1e-4) return so3::rodrigues(t);
+    const double half = 0.5 * t;
+    const double q = std::sin(half) / half;
+    return {q * std::cos(half), 0.5 * q * q};
+  }
+  /// F = exp(hat f) = I + a hat(f) + b hat(f)^2 with the coefficients of the evaluation at f
+  /// (those rotation_from recomputes).
+  static Mat3 rotation(const V3& f, const Evaluation& e) { return rotation(f, e.a, e.b); }
+  static Mat3 rotation(const V3& f, double a, double b) {
+    const Vec3 w = vec3(f);
+    return Mat3::Identity() + a * so3::hat(w) + b * so3::hat_squared(w);
+  }
   static V3 warm_start(const Inertia& I, const V3& hp) { return m3(I.J_inverse) * hp; }
   static void evaluate(const M3& J, const V3& hp, const V3& f, Evaluation& e) {
     e.t = std::sqrt(dot(f, f));
-    const auto [a, b] = so3::rodrigues(e.t);
+    const auto [a, b] = rodrigues(e.t);
     e.a = a;
     e.b = b;
     e.Jf = J * f;
@@ -259,10 +279,13 @@ struct ExponentialChart {
   }
 };
 
-/// Newton's method in one chart from its warm start; f_out is written on convergence only.
+/// Newton's method in one chart from its warm start. On convergence only, f_out is the
+/// parameter and, when F_out is given, *F_out the rotation (from the last evaluation's
+/// coefficients).
 template <class Chart>
 inline RotationUpdateSummary newton(const Inertia& I, double J_norm, const RotationUpdateOptions& o,
-                                    const Vec3& hp_in, double rhs_norm, Vec3& f_out) {
+                                    const Vec3& hp_in, double rhs_norm, Vec3& f_out,
+                                    Mat3* F_out = nullptr) {
   RotationUpdateSummary s;
   s.rhs_norm = rhs_norm;
   const double scale = rhs_norm > 0.0 ? rhs_norm : 1.0;
@@ -303,11 +326,13 @@ inline RotationUpdateSummary newton(const Inertia& I, double J_norm, const Rotat
         const double g2 = residual(e2);
         if (g2 < s.residual) {
           f = polished;
+          e = e2;
           s.residual = g2;
         }
       }
       s.status = RotationUpdateStatus::Converged;
       f_out = vec3(f);
+      if (F_out) *F_out = Chart::rotation(f, e);
       return s;
     }
     if (s.iterations >= o.max_iterations) break;
@@ -323,6 +348,14 @@ inline RotationUpdateSummary newton(const Inertia& I, double J_norm, const Rotat
 
 }  // namespace rotation_update_detail
 
+inline Mat3 rotation_from(Parametrization p, const Vec3& f) {
+  namespace d = rotation_update_detail;
+  if (p == Parametrization::Cayley) return so3::cayley(f);
+  const d::V3 v = d::v3(f);
+  const auto [a, b] = d::ExponentialChart::rodrigues(std::sqrt(d::dot(v, v)));
+  return d::ExponentialChart::rotation(v, a, b);
+}
+
 LGVI_FLATTEN inline RotationUpdateSummary RotationUpdateSolver::solve_in(Parametrization p, const Vec3& hp,
                                                             Vec3& f) const {
   namespace d = rotation_update_detail;
@@ -337,12 +370,16 @@ LGVI_FLATTEN inline RotationUpdateSummary RotationUpdateSolver::solve_in(Paramet
 
 LGVI_FLATTEN inline RotationUpdateSummary RotationUpdateSolver::solve(const Vec3& hp,
                                                                    Mat3& F) const {
+  namespace d = rotation_update_detail;
   const double rhs_norm = hp.norm();
   if (!(rhs_norm <= domain_bound_)) return outside_domain(rhs_norm);  // also catches NaN
-  Vec3 f = Vec3::Zero();
-  const RotationUpdateSummary s = solve_in(options_.primary, hp, f);
-  if (!s.converged()) return options_.fallback ? solve_with_fallback(hp, s, F) : s;
-  F = rotation_from(s.parametrization, f);
+  Vec3 f;
+  RotationUpdateSummary s =  // writes F on convergence only
+      options_.primary == Parametrization::Cayley
+          ? d::newton<d::CayleyChart>(inertia_, J_norm_, options_, hp, rhs_norm, f, &F)
+          : d::newton<d::ExponentialChart>(inertia_, J_norm_, options_, hp, rhs_norm, f, &F);
+  s.parametrization = options_.primary;
+  if (!s.converged() && options_.fallback) return solve_with_fallback(hp, s, F);
   return s;
 }
 
