@@ -10,6 +10,11 @@
 // Converged when |G| <= relative_tolerance * scale + absolute_tolerance, where `scale` (returned
 // by the residual) is the sum of the magnitudes of the terms of G, the round-off floor of its
 // evaluation. Fixed-size types only: no heap.
+//
+// Cost (issue 12): DG is formed only when a Newton step is taken (the residual and the Jacobian
+// are separate callables), and DG xi = -G is solved in closed form: by the adjugate for N = 1,
+// by block elimination with adjugate 3x3 inverses for N = 2 (pivoted LU when a block is nearly
+// singular). The Newton steps change by round-off only; the converged A is the same to round-off.
 #pragma once
 
 #include <array>
@@ -30,13 +35,65 @@ struct GroupNewtonOptions {
   int max_iterations = 50;
 };
 
-/// Solves G = 0 from the initial guess A (A_i = F_i - I, updated in place on success only). The
-/// residual callable is residual(const std::array<Mat3, N>& A, Vector& G, Matrix& DG) -> double
-/// scale.
+namespace group_newton_detail {
+
+/// A^{-1} by the adjugate (rows: the cross products of A's columns over det A); false, X
+/// untouched, when nearly singular (the guard of rotation_update_detail::solve_adjugate).
+inline bool inverse_adjugate(const Mat3& A, Mat3& X) {
+  const Vec3 k0 = A.col(1).cross(A.col(2)), k1 = A.col(2).cross(A.col(0)),
+             k2 = A.col(0).cross(A.col(1));
+  const double det = A.col(0).dot(k0);
+  const double frobenius2 = A.squaredNorm();
+  if (!(det * det > rotation_update_detail::kEpsilon * (frobenius2 * frobenius2 * frobenius2))) {
+    return false;
+  }
+  const double inverse = 1.0 / det;
+  X.row(0) = inverse * k0.transpose();
+  X.row(1) = inverse * k1.transpose();
+  X.row(2) = inverse * k2.transpose();
+  return true;
+}
+
+/// DG^{-1} b for the Newton matrix of N = 1 or 2 rotations (see the header comment).
+template <int N>
+Eigen::Matrix<double, 3 * N, 1> solve_newton_matrix(const Eigen::Matrix<double, 3 * N, 3 * N>& DG,
+                                                     const Eigen::Matrix<double, 3 * N, 1>& b) {
+  if constexpr (N == 1) {
+    return rotation_update_detail::solve3(DG.col(0), DG.col(1), DG.col(2), b);
+  } else if constexpr (N == 2) {
+    // [P Q; R S] [x1; x2] = [b1; b2]: x2 = (S - R P^{-1} Q)^{-1} (b2 - R P^{-1} b1),
+    // x1 = P^{-1} b1 - P^{-1} Q x2. The diagonal blocks are the bodies' own rotation-update
+    // Jacobians (~ their locked inertias) and the Schur complement that of the other body given
+    // the first, both well conditioned for physical parameters; otherwise the pivoted LU.
+    Mat3 P_inverse;
+    if (inverse_adjugate(DG.template topLeftCorner<3, 3>(), P_inverse)) {
+      const Mat3 PiQ = P_inverse * DG.template topRightCorner<3, 3>();
+      const Vec3 Pib1 = P_inverse * b.template head<3>();
+      const Mat3 schur = DG.template bottomRightCorner<3, 3>() - DG.template bottomLeftCorner<3, 3>() * PiQ;
+      const Vec3 r = b.template tail<3>() - DG.template bottomLeftCorner<3, 3>() * Pib1;
+      Vec3 x2;
+      if (rotation_update_detail::solve_adjugate(schur.col(0), schur.col(1), schur.col(2), r, x2)) {
+        Eigen::Matrix<double, 6, 1> x;
+        x << Pib1 - PiQ * x2, x2;
+        return x;
+      }
+    }
+    return Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>>(DG).solve(b);
+  } else {
+    return Eigen::PartialPivLU<Eigen::Matrix<double, 3 * N, 3 * N>>(DG).solve(b);
+  }
+}
+
+}  // namespace group_newton_detail
+
+/// Solves G = 0 from the initial guess A (A_i = F_i - I, updated in place on success only).
+/// The callables: residual(const std::array<Mat3, N>& A, Vector& G) -> double scale (the sum of
+/// the magnitudes of G's terms), and jacobian(const std::array<Mat3, N>& A, Matrix& DG), the
+/// right-trivialized derivative at the A last passed to residual.
 /// Returns a RotationUpdateSummary (parametrization: exponential, the update's retraction).
-template <int N, class Residual>
+template <int N, class Residual, class Jacobian>
 RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual&& residual,
-                                         const GroupNewtonOptions& o = {}) {
+                                         Jacobian&& jacobian, const GroupNewtonOptions& o = {}) {
   using Vector = Eigen::Matrix<double, 3 * N, 1>;
   using Matrix = Eigen::Matrix<double, 3 * N, 3 * N>;
   RotationUpdateSummary s;
@@ -49,9 +106,8 @@ RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual&& resi
     }
   };
   Vector G;
-  Matrix DG;
   for (;;) {
-    const double scale = residual(std::as_const(iterate), G, DG);
+    const double scale = residual(std::as_const(iterate), G);
     const double g = G.norm();
     s.rhs_norm = scale;
     s.residual = scale > 0.0 ? g / scale : g;
@@ -61,12 +117,13 @@ RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual&& resi
       // the largest terms of G; a conserved momentum along a weak inertia axis is far smaller and
       // would accumulate the leftover residual step after step.
       if (s.iterations < o.max_iterations && g > 0.0) {
-        const Vector xi = Eigen::PartialPivLU<Matrix>(DG).solve(-G);
+        Matrix DG;
+        jacobian(std::as_const(iterate), DG);
+        const Vector xi = group_newton_detail::solve_newton_matrix<N>(DG, Vector(-G));
         std::array<Mat3, N> polished = iterate;
         update(polished, xi);
         Vector G2;
-        Matrix DG2;
-        residual(std::as_const(polished), G2, DG2);
+        residual(std::as_const(polished), G2);
         ++s.iterations;
         s.polished = true;
         if (G2.norm() < g) {
@@ -79,13 +136,23 @@ RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual&& resi
       return s;
     }
     if (s.iterations >= o.max_iterations) break;
-    const Vector xi = Eigen::PartialPivLU<Matrix>(DG).solve(-G);
+    Matrix DG;
+    jacobian(std::as_const(iterate), DG);
+    const Vector xi = group_newton_detail::solve_newton_matrix<N>(DG, Vector(-G));
     if (!xi.allFinite()) break;
     update(iterate, xi);
     ++s.iterations;
   }
   s.status = RotationUpdateStatus::NotConverged;
   return s;
+}
+
+/// vee(A K - K A^T) for symmetric K (the term of eqs. 32, 40, 41 in A = F - I): with X = A K,
+/// K A^T = X^T, so it is (X21 - X12, X02 - X20, X10 - X01), six entries of one product instead of
+/// two whole products. Precondition: K exactly symmetric (Inertia::from makes J_d so).
+inline Vec3 vee_of_skew_product(const Mat3& A, const Mat3& K) {
+  const auto x = [&](int i, int j) { return A.row(i).dot(K.col(j)); };
+  return Vec3(x(2, 1) - x(1, 2), x(0, 2) - x(2, 0), x(1, 0) - x(0, 1));
 }
 
 /// d/dxi vee(F exp(hat xi) K - K exp(hat xi)^T F^T) at xi = 0 for symmetric K (F = I + A):

@@ -93,8 +93,8 @@ class AttitudeLgvi {
   /// One step (R_k, Pi_k) -> (R_{k+1}, Pi_{k+1}) with controls u_k at t_k and u_{k+1} at t_{k+1}
   /// (the printed form uses u_{k+1} only). `out` is written only when the rotation update
   /// converged; `out` may alias `in`.
-  RotationUpdateSummary step(const State& in, double h, const Control& u_k, const Control& u_k1,
-                             State& out) const {
+  LGVI_FLATTEN RotationUpdateSummary step(const State& in, double h, const Control& u_k,
+                                          const Control& u_k1, State& out) const {
     const auto [c0, c1] = impulse_weights(form_, h);
     Vec3 kick = in.Pi;
     if (c0 != 0.0) kick += c0 * (in.M + system_.control_moment(in.R, u_k));
@@ -135,8 +135,8 @@ class DumbbellLgvi {
   State make_state(const Mat3& R, const Vec3& x, const Vec3& Omega, const Vec3& v) const;
   Vec3 omega(const State& s) const { return system_.inertia.J_inverse * s.Pi; }
 
-  RotationUpdateSummary step(const State& in, double h, const Control& u_k, const Control& u_k1,
-                             State& out) const {
+  LGVI_FLATTEN RotationUpdateSummary step(const State& in, double h, const Control& u_k,
+                                          const Control& u_k1, State& out) const {
     const auto [c0, c1] = impulse_weights(form_, h);
     const double m = system_.mass;
     Vec3 kick = in.Pi;

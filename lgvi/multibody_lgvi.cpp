@@ -43,7 +43,7 @@ CartPendulumLgvi::State CartPendulumLgvi::make_state(const Mat3& R, const Vec2& 
   return s;
 }
 
-RotationUpdateSummary CartPendulumLgvi::step(const State& in, double h, const Control& u_k,
+LGVI_FLATTEN RotationUpdateSummary CartPendulumLgvi::step(const State& in, double h, const Control& u_k,
                                              const Control& u_k1, State& out) const {
   const auto [c0, c1] = impulse_weights(form_, h);
   const CartPendulum& S = system_;
@@ -60,18 +60,21 @@ RotationUpdateSummary CartPendulumLgvi::step(const State& in, double h, const Co
   const double b_scale = (h * in.Pi).norm() + (0.5 * h * h * in.M).norm() + coupling.norm();
 
   // In terms of A = F - I (see group_newton.hpp): F J_d - J_d F^T = A J_d - J_d A^T.
-  auto residual = [&](const std::array<Mat3, 1>& A, Vec3& G, Mat3& DG) {
-    const Vec3 t1 = so3::vee(A[0] * Jd - Jd * A[0].transpose());
+  auto residual = [&](const std::array<Mat3, 1>& A, Vec3& G) {
+    const Vec3 t1 = vee_of_skew_product(A[0], Jd);
     const Vec3 t2 = kappa * d.cross(P * (A[0] * d));
     G = t1 - t2 - b;
-    const Mat3 F = Mat3::Identity() + A[0];
-    DG = rotation_update_jacobian(F, Jd) + kappa * D * P * F * D;
     return t1.norm() + t2.norm() + b_scale;
+  };
+  const Mat3 kappa_DP = kappa * D * P;
+  auto jacobian = [&](const std::array<Mat3, 1>& A, Mat3& DG) {
+    const Mat3 F = Mat3::Identity() + A[0];
+    DG = rotation_update_jacobian(F, Jd) + kappa_DP * F * D;
   };
   // Warm start from the linearization (J + kappa hat(d) P hat(d)) f = b at F = I.
   const Mat3 J0 = S.inertia.J + kappa * D * P * D;
   std::array<Mat3, 1> A{so3::exp_minus_identity(J0.partialPivLu().solve(b))};
-  const RotationUpdateSummary summary = solve_on_rotations<1>(A, residual, options_);
+  const RotationUpdateSummary summary = solve_on_rotations<1>(A, residual, jacobian, options_);
   if (!summary.converged()) return summary;
 
   const Vec2 dq = (h * p_minus - m * RtE.transpose() * (A[0] * d)) / total;
@@ -107,7 +110,7 @@ ConnectedBodiesLgvi::State ConnectedBodiesLgvi::make_state(const Mat3& R1, const
   return s;
 }
 
-RotationUpdateSummary ConnectedBodiesLgvi::step(const State& in, double h, const Control& u_k,
+LGVI_FLATTEN RotationUpdateSummary ConnectedBodiesLgvi::step(const State& in, double h, const Control& u_k,
                                                 const Control& u_k1, State& out) const {
   const auto [c0, c1] = impulse_weights(form_, h);
   const ConnectedBodies& S = system_;
@@ -125,24 +128,27 @@ RotationUpdateSummary ConnectedBodiesLgvi::step(const State& in, double h, const
   const double rhs_scale = hPi1.norm() + hPi2.norm();
 
   // In terms of A_i = F_i - I (see group_newton.hpp): a_i = R_i A_i d_i.
-  auto residual = [&](const std::array<Mat3, 2>& A, Vec6& G, Mat6x6& DG) {
-    const Vec3 t1 = so3::vee(A[0] * K1 - K1 * A[0].transpose());
-    const Vec3 t2 = so3::vee(A[1] * K2 - K2 * A[1].transpose());
+  auto residual = [&](const std::array<Mat3, 2>& A, Vec6& G) {
+    const Vec3 t1 = vee_of_skew_product(A[0], K1);
+    const Vec3 t2 = vee_of_skew_product(A[1], K2);
     const Vec3 x1 = mu * d1.cross(R12 * (A[1] * d2));              // mu d1 x R1^T a2
     const Vec3 x2 = mu * d2.cross(R12.transpose() * (A[0] * d1));  // mu d2 x R2^T a1
     G << t1 - x1 - hPi1, t2 - x2 - hPi2;
+    return t1.norm() + t2.norm() + x1.norm() + x2.norm() + rhs_scale;
+  };
+  const Mat3 mu_D1_R12 = mu * D1 * R12, mu_D2_R21 = mu * D2 * R12.transpose();
+  auto jacobian = [&](const std::array<Mat3, 2>& A, Mat6x6& DG) {
     const Mat3 F1 = Mat3::Identity() + A[0], F2 = Mat3::Identity() + A[1];
     DG.topLeftCorner<3, 3>() = rotation_update_jacobian(F1, K1);
-    DG.topRightCorner<3, 3>() = mu * D1 * R12 * F2 * D2;
-    DG.bottomLeftCorner<3, 3>() = mu * D2 * R12.transpose() * F1 * D1;
+    DG.topRightCorner<3, 3>() = mu_D1_R12 * F2 * D2;
+    DG.bottomLeftCorner<3, 3>() = mu_D2_R21 * F1 * D1;
     DG.bottomRightCorner<3, 3>() = rotation_update_jacobian(F2, K2);
-    return t1.norm() + t2.norm() + x1.norm() + x2.norm() + rhs_scale;
   };
   // Warm start: at F = I the equations linearize to the mass matrix of eq. 47 times xi = h Omega.
   Vec3 xi1, xi2;
   S.velocities(in.R1, in.R2, hPi1, hPi2, xi1, xi2);
   std::array<Mat3, 2> A{so3::exp_minus_identity(xi1), so3::exp_minus_identity(xi2)};
-  const RotationUpdateSummary summary = solve_on_rotations<2>(A, residual, options_);
+  const RotationUpdateSummary summary = solve_on_rotations<2>(A, residual, jacobian, options_);
   if (!summary.converged()) return summary;
 
   const Mat3 R1 = in.R1 * (Mat3::Identity() + A[0]), R2 = in.R2 * (Mat3::Identity() + A[1]);

@@ -26,6 +26,19 @@ inline Mat3 hat(const Vec3& x) {
   return X;
 }
 
+/// hat(x)^2 = x x^T - |x|^2 I, written entry by entry: each entry is the one or two non-zero
+/// products of the generic product hat(x) * hat(x) (so the same value to the last bit), without
+/// its 27 multiplications.
+inline Mat3 hat_squared(const Vec3& x) {
+  const double xx = x.x() * x.x(), yy = x.y() * x.y(), zz = x.z() * x.z();
+  const double xy = x.x() * x.y(), xz = x.x() * x.z(), yz = x.y() * x.z();
+  Mat3 X;
+  X << -(zz + yy), xy, xz,  //
+      xy, -(zz + xx), yz,   //
+      xz, yz, -(yy + xx);
+  return X;
+}
+
 /// vee: so(3) -> R^3, the inverse of hat. Reads the skew part (X - X^T)/2, so it is also the
 /// projection of a general 3x3 matrix onto so(3) followed by vee.
 inline Vec3 vee(const Mat3& X) {
@@ -56,16 +69,14 @@ inline RodriguesCoefficients rodrigues(double theta) {
 /// exp: so(3) -> SO(3) (Rodrigues).
 inline Mat3 exp(const Vec3& w) {
   const auto [a, b] = rodrigues(w.norm());
-  const Mat3 W = hat(w);
-  return Mat3::Identity() + a * W + b * W * W;
+  return Mat3::Identity() + a * hat(w) + b * hat_squared(w);
 }
 
 /// exp(hat w) - I = a hat(w) + b hat(w)^2, accurate relative to its own size (no cancellation
 /// against I): the form to use when a small rotation's deviation from I enters a difference.
 inline Mat3 exp_minus_identity(const Vec3& w) {
   const auto [a, b] = rodrigues(w.norm());
-  const Mat3 W = hat(w);
-  return a * W + b * W * W;
+  return a * hat(w) + b * hat_squared(w);
 }
 
 /// log: SO(3) -> so(3), principal branch, |result| in [0, pi]. Precondition: R orthonormal
@@ -147,8 +158,7 @@ inline Mat3 left_jacobian_inverse(const Vec3& w) { return right_jacobian_inverse
 /// Cayley map cay(f) = (I + hat f)(I - hat f)^{-1} = I + 2/(1 + |f|^2) (hat f + hat(f)^2).
 /// Orthonormal for every f; covers SO(3) except the rotations by pi.
 inline Mat3 cayley(const Vec3& f) {
-  const Mat3 Fh = hat(f);
-  return Mat3::Identity() + (2.0 / (1.0 + f.squaredNorm())) * (Fh + Fh * Fh);
+  return Mat3::Identity() + (2.0 / (1.0 + f.squaredNorm())) * (hat(f) + hat_squared(f));
 }
 
 /// Inverse Cayley map: f = vee(R - R^T) / (1 + tr R), i.e. tan(theta/2) n. Precondition:

@@ -34,8 +34,14 @@ Vec3 bodies_Omega1_0() { return Vec3(0.5, -0.4, 0.3); }
 Vec3 bodies_Omega2_0() { return Vec3(-0.2, 0.6, 0.1); }
 /// A zero-mean internal control (inertial frame): it changes the shape but, being internal,
 /// not the total angular momentum.
+/// Amplitude 0.01: the control pumps energy into the chaotic relative motion. At 0.05 the
+/// momenta grew 40-100x within the 1e5 steps of the test below, to |h Pi| ~ 1-3 where the
+/// rotation update at h = 1e-2 has no solution: of 10 runs started 1e-15 apart (Omega1_0 x
+/// shifted by k 1e-15), 5 failed, with the solver of that time as with today's, so the test
+/// passed or failed by round-off. At 0.01, 80 such runs (both solvers) stayed below
+/// |h Pi| = 0.2 and all completed.
 Vec3 bodies_control(double t) {
-  return 0.05 * Vec3(std::sin(0.7 * t), 0.5 * std::cos(1.1 * t), -0.3 * std::sin(1.9 * t + 0.5));
+  return 0.01 * Vec3(std::sin(0.7 * t), 0.5 * std::cos(1.1 * t), -0.3 * std::sin(1.9 * t + 0.5));
 }
 
 // --- The discrete Lagrangians as printed (eqs. 29, 39), for finite differences -------------------
@@ -234,7 +240,7 @@ TEST(ConnectedBodiesLgvi, ConservesTotalAngularMomentumWithInternalControl) {
                                   return true;
                                 });
   ASSERT_TRUE(stats.ok()) << stats.brief();
-  ASSERT_GT(control_impulse, 0.01);  // the control really is on
+  ASSERT_GT(control_impulse, 0.005);  // the control really is on
   std::cout << "[ stats    ] " << stats.brief() << "\n[ measured ] total angular momentum drift "
             << dH / H0.norm() << ", orthogonality " << orth << "\n";
   EXPECT_LE(dH / H0.norm(), kMomentumRelativeBound);
