@@ -83,14 +83,18 @@ FreeRigidBodyExact::FreeRigidBodyExact(const Mat3& J, const Mat3& R0, const Vec3
   const double c2 = Om(2) * Om(2) + Om(1) * Om(1) * I2 * (I2 - I1) / (I3 * (I3 - I1));
   const double k2 = (I2 - I1) * I1 * a2 / ((I3 - I2) * I3 * c2);
   const double k = std::sqrt(k2);
-  if (!(k < 1.0)) {
-    throw InvalidInput("Omega0", "is within rounding of the separatrix (elliptic modulus k = 1)");
+  // 1 - k^2 = (G^2 - 2 E I2) / ((I3 - I2) I3 c^2): from the separatrix distance, not 1 - k^2.
+  const double k_complement = std::sqrt(separatrix_distance / ((I3 - I2) * I3 * c2));
+  if (!(k < 1.0) || k_complement * k_complement / (1.0 + k) < exact_detail::kMinimumDistanceToSeparatrix) {
+    throw InvalidInput("Omega0", "is within 1 - k = " + std::to_string(exact_detail::kMinimumDistanceToSeparatrix) +
+                                     " of the separatrix G^2 = 2 E I2 (k = " + std::to_string(k) +
+                                     "), where the elliptic integrals lose their digits");
   }
   a_ = std::sqrt(a2);
   b_ = std::sqrt(b2);
   c_ = sign(Om(2)) * std::sqrt(c2);
   lambda_ = sign(I3 - I2) * c_ * std::sqrt((I3 - I2) * (I3 - I1) / (I1 * I2));
-  jacobi_ = exact_detail::Jacobi(k);
+  jacobi_ = exact_detail::Jacobi(k, k_complement);
   // cn w0 = Omega1 / a, sn w0 = Omega2 / b: the amplitude of w0 (any quadrant; F extends).
   w0_ = jacobi_.argument_of_amplitude(std::atan2(Om(1) / b_, Om(0) / a_));
 

@@ -31,8 +31,10 @@
 // includes Omega = 0 and the sphere) is steady, R = R0 exp(t hat Omega0); two equal moments give
 // k = 0 and n = 0 (the trigonometric solution, the same formulas). A state on the separatrix
 // (G^2 = 2 E I2 within 16 eps of its terms, not a steady rotation) is rejected (InvalidInput
-// "Omega0"): its motion is the hyperbolic limit k = 1, which Jacobi's functions in double
-// precision do not resolve.
+// "Omega0"): its motion is the hyperbolic limit k = 1. So is a state closer to it than
+// 1 - k = 1e-8 (exact_detail::kMinimumDistanceToSeparatrix), where Boost's elliptic integrals
+// lose digits (the scene free-body.toml, spun 0.05 rad/s off the intermediate axis, has
+// 1 - k = 7e-4).
 //
 // Accuracy. Every special function sees an argument reduced to a half-period; the rest of a long
 // horizon is the rounding of the phases lambda t and the mean precession rate times t, an error

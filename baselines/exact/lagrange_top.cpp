@@ -163,11 +163,20 @@ LagrangeTopExact::LagrangeTopExact(const Pendulum3D& pendulum, const Mat3& R0, c
   }
   D_ = std::max(0.0, v_c - v_b);
   steady_ = D_ == 0.0;
-  // 1 - u_c and 1 + u_b to their own relative accuracy: roots of h and p near 0, bracketed by 0
-  // (h(0) = -4A^2 < 0) and the middle of the nutation range (f > 0).
+  // 1 - u_c = x0 - v_c and 1 + u_b = y0 + v_b. Where the difference cancels (u_c near 1, u_b
+  // near -1) they are recomputed to their own relative accuracy as the roots of h and p near 0,
+  // bracketed by 0 (h(0) = -4A^2 < 0) and the middle of the nutation range (f > 0). Not
+  // otherwise: a root of h or p far from its expansion point carries the rounding of terms of
+  // size beta (measured: 2.4e-9 in 1 + u_b for a 1e-3 rad swing).
   const double x_mid = x0 - 0.5 * (v_b + v_c), y_mid = y0 + 0.5 * (v_b + v_c);
-  if (upper == Known::Solve) x_c_ = steady_ ? x0 : bracketed_root(h, 0.0, x_mid, -1.0, x0 - v_c);
-  if (lower == Known::Solve) y_b_ = steady_ ? y0 : bracketed_root(p, 0.0, y_mid, -1.0, y0 + v_b);
+  if (upper == Known::Solve) {
+    x_c_ = x0 - v_c;
+    if (!steady_ && x_c_ < 0.5 * x0) x_c_ = bracketed_root(h, 0.0, x_mid, -1.0, x_c_);
+  }
+  if (lower == Known::Solve) {
+    y_b_ = y0 + v_b;
+    if (!steady_ && y_b_ < 0.5 * y0) y_b_ = bracketed_root(p, 0.0, y_mid, -1.0, y_b_);
+  }
   x_b_ = x_c_ + D_;
   const double y_c = y_b_ + D_;
 
@@ -186,43 +195,55 @@ LagrangeTopExact::LagrangeTopExact(const Pendulum3D& pendulum, const Mat3& R0, c
   } else {
     const double v_a = g.c2 / beta - v_b - v_c;  // sum of the roots of g
     const double span = v_c - v_a;               // u_c - u_a
+    double ya_abs = -(y0 + v_a);                 // -1 - u_a; if that cancels, from f(-1) = -beta |y_a| y_b y_c
+    if (ya_abs < 1e-3 * std::abs(v_a) && B_ != 0.0) ya_abs = 4.0 * B_ * B_ / (beta * y_b_ * y_c);
     const double k = std::sqrt(D_ / span);
-    if (!(k < 1.0)) {
-      throw InvalidInput("Omega0", "is within rounding of a separatrix (nutation modulus k = 1)");
+    const double k_complement = std::sqrt((y_b_ + ya_abs) / span);  // (u_b - u_a) / (u_c - u_a)
+    if (!(k < 1.0) || k_complement * k_complement / (1.0 + k) < exact_detail::kMinimumDistanceToSeparatrix) {
+      throw InvalidInput("Omega0", "is within 1 - k = " + std::to_string(exact_detail::kMinimumDistanceToSeparatrix) +
+                                       " of a separatrix of the nutation (k = " + std::to_string(k) +
+                                       "), where the elliptic integrals lose their digits");
     }
-    jacobi_ = exact_detail::Jacobi(k);
+    jacobi_ = exact_detail::Jacobi(k, k_complement);
     nu_ = 0.5 * std::sqrt(beta * span);
     through_bottom_ = x_c_ == 0.0;
     through_top_ = y_b_ == 0.0;
-    // u(w0) = u0: sn^2 w0 = v_c / D, cn^2 w0 = -v_b / D; u' = -2 D nu sn cn dn has the sign of
-    // u'(0) = eta, and cn >= 0 on |w0| <= K.
-    const double amplitude = std::atan2(std::sqrt(v_c), std::sqrt(-v_b));
-    w0_ = (eta > 0.0 ? -1.0 : 1.0) * jacobi_.argument_of_amplitude(amplitude);
-    const exact_detail::JacobiPoint p0 = jacobi_.at(w0_);
-    sign_s_ = p0.sn < 0.0 ? -1.0 : 1.0;
+    // u(w0) = u0 with u' = -2 D nu sn cn dn of the sign of u'(0) = eta. The phase is kept from
+    // the turning point nearer its pole, so that small sn (or cn) keep their relative accuracy
+    // where 1 - u (1 + u) is small: from u_c, sn^2 w0 = v_c / D, cn^2 w0 = -v_b / D, cn >= 0 on
+    // |w0| <= K; from u_b (w = K + w'), tan^2 am(w') = -v_b / (k'^2 v_c) and u' has the sign of
+    // sn w'.
+    anchor_bottom_ = y_b_ < x_c_;
+    if (anchor_bottom_) {
+      const double amplitude = std::atan2(std::sqrt(-v_b), k_complement * std::sqrt(v_c));
+      w0_ = (eta < 0.0 ? -1.0 : 1.0) * jacobi_.argument_of_amplitude(amplitude);
+    } else {
+      const double amplitude = std::atan2(std::sqrt(v_c), std::sqrt(-v_b));
+      w0_ = (eta > 0.0 ? -1.0 : 1.0) * jacobi_.argument_of_amplitude(amplitude);
+    }
+    const Points p0 = points(0.0);
+    sign_s_ = p0.at_w.sn < 0.0 ? -1.0 : 1.0;
     if (A_ != 0.0) {
       x_integral_ = exact_detail::SnSquaredIntegral(jacobi_, x_c_, D_);
       delta_rate_ += A_ * x_integral_.mean();
-      x_periodic0_ = x_integral_.periodic(p0);
+      x_periodic0_ = x_integral_.periodic(p0.at_w);
     }
     if (B_ != 0.0) {
       // Direct form: Pi's parameter n = D / y_c carries 1 - n = y_b / y_c to eps / (1 - n)
       // relative. Shifted form: cancels in 1 + k^2 y_b / m. Take the better conditioned.
       const double k2 = k * k;
-      double ya_abs = -(y0 + v_a);  // -1 - u_a
-      if (ya_abs < 1e-3 * std::abs(v_a)) ya_abs = 4.0 * B_ * B_ / (beta * y_b_ * y_c);  // f(-1) = -beta |y_a| y_b y_c
       const double m = D_ * ya_abs / (y_c + ya_abs);
       y_shifted_ = m > 0.0 && y_c / y_b_ > 1.0 + k2 * y_b_ / m;
       if (y_shifted_) {
         y_integral_ = exact_detail::SnSquaredIntegral(jacobi_, y_b_, m);
         y_coefficient_ = 1.0 + k2 * y_b_ / m;
         sigma_rate_ += B_ * (-k2 / m + y_coefficient_ * y_integral_.mean());
-        y_periodic0_ = y_integral_.periodic(jacobi_.at(w0_ - jacobi_.quarter_period()));
+        y_periodic0_ = y_integral_.periodic(p0.at_w_minus_K);
       } else {
         y_integral_ = exact_detail::SnSquaredIntegral(jacobi_, y_c, -D_);
         y_coefficient_ = 1.0;
         sigma_rate_ += B_ * y_integral_.mean();
-        y_periodic0_ = y_integral_.periodic(p0);
+        y_periodic0_ = y_integral_.periodic(p0.at_w);
       }
     }
   }
@@ -231,6 +252,16 @@ LagrangeTopExact::LagrangeTopExact(const Pendulum3D& pendulum, const Mat3& R0, c
   Vec3 unused;
   euler_state(0.0, E0, unused);
   Y_ = R0 * Qs_ * E0.transpose();
+}
+
+LagrangeTopExact::Points LagrangeTopExact::points(double t) const {
+  const double phase = nu_ * t + w0_;
+  if (anchor_bottom_) {
+    const exact_detail::JacobiPoint below = jacobi_.at(phase);
+    return {jacobi_.shifted(below, +1), below};
+  }
+  const exact_detail::JacobiPoint at = jacobi_.at(phase);
+  return {at, jacobi_.shifted(at, -1)};
 }
 
 double LagrangeTopExact::nutation_period() const {
@@ -251,11 +282,11 @@ void LagrangeTopExact::euler_state(double t, Mat3& E, Vec3& Omega_sym) const {
     // At a pole the steady motion is a spin about the vertical axis d: Omega_perp = 0.
     if (s * c > 0.0) Omega2 = (A_ * y + B_ * x) / (2.0 * s * c);
   } else {
-    const exact_detail::JacobiPoint pt = jacobi_.at(nu_ * t + w0_);
+    const Points points_t = points(t);
+    const exact_detail::JacobiPoint& pt = points_t.at_w;
     if (A_ != 0.0) delta += (A_ / nu_) * (x_integral_.periodic(pt) - x_periodic0_);
     if (B_ != 0.0) {
-      const double periodic =
-          y_shifted_ ? y_integral_.periodic(jacobi_.at(nu_ * t + w0_ - jacobi_.quarter_period())) : y_integral_.periodic(pt);
+      const double periodic = y_integral_.periodic(y_shifted_ ? points_t.at_w_minus_K : pt);
       sigma += (B_ / nu_) * y_coefficient_ * (periodic - y_periodic0_);
     }
     const double sn2 = pt.sn * pt.sn, cn2 = pt.cn * pt.cn;

@@ -32,6 +32,9 @@
 // roots of f written about u = 1 and u = -1 (coefficients from A, B and the state, without
 // cancellation), so a motion passing 1e-12 from a pole keeps its digits.
 //
+// Near a separatrix (k -> 1: released just short of the upright equilibrium) the elliptic
+// integrals lose digits; states with 1 - k < 1e-8 are rejected (elliptic.hpp).
+//
 // Special cases: M = 0 (no gravity torque: g = 0 or rho = 0) is a free rigid body, delegated to
 // FreeRigidBodyExact (any J); u_b = u_c (steady precession, including the sleeping top) has
 // constant theta. Rejected (InvalidInput "Omega0"): a state on the separatrix through the
@@ -82,11 +85,11 @@ class LagrangeTopExact {
   bool is_free_body() const { return free_body_.has_value(); }
 
  private:
-  struct Half {
-    double s, c;  ///< sin(theta/2), cos(theta/2), signed at the poles
-    double x_dot;  ///< d(1 - u)/dt
+  /// The Jacobi point of w = nu t + w0 (w = 0 at u = u_c) and of w - K (w - K = 0 at u = u_b).
+  struct Points {
+    exact_detail::JacobiPoint at_w, at_w_minus_K;
   };
-  Half half_angles(const exact_detail::JacobiPoint& p) const;
+  Points points(double t) const;
   /// The Euler rotation E and the body angular velocity in the symmetric frame.
   void euler_state(double t, Mat3& E, Vec3& Omega_sym) const;
 
@@ -102,7 +105,9 @@ class LagrangeTopExact {
   bool steady_ = true;          ///< D = 0
   bool through_bottom_ = false;  ///< A = 0 and u_c = 1: sin(theta/2) signed
   bool through_top_ = false;     ///< B = 0 and u_b = -1: cos(theta/2) signed
-  double nu_ = 0.0, w0_ = 0.0;
+  double nu_ = 0.0;
+  double w0_ = 0.0;             ///< the phase at t = 0: of w, or of w - K when anchor_bottom_
+  bool anchor_bottom_ = false;  ///< phase kept from u_b (1 + u_b < 1 - u_c), see the constructor
   double sign_s_ = 1.0;         ///< sign of sin(theta/2) relative to sn w (through_bottom_)
   double sigma0_ = 0.0, delta0_ = 0.0;
   double sigma_rate_ = 0.0, delta_rate_ = 0.0;  ///< mean rates (constant parts + A, B means)
