@@ -28,9 +28,18 @@
 // through 0 (pi) instead of phi jumping by pi, and the 1/(1 -+ u) term has coefficient 0. Near a
 // pole (A small, not 0) the integrand is sharply peaked; SnSquaredIntegral handles that. A and B
 // are snapped to 0 when they are within the rounding of their terms (8 eps (|Omega_perp| + |a|)),
-// which moves the solution by that rounding. The distances 1 - u_c and 1 + u_b are computed as
-// roots of f written about u = 1 and u = -1 (coefficients from A, B and the state, without
-// cancellation), so a motion passing 1e-12 from a pole keeps its digits.
+// which moves the solution by that rounding.
+//
+// Roots and phase, to keep the digits of 1 -+ u near the poles and of u_c - u_b for a small
+// nutation: the cubic is written about u0 (its constant u'(0)^2 and linear f'(u0) taken from the
+// state, so a turning point or a steady precession is exact), and 1 - u_c, 1 + u_b are re-solved
+// about u = 1 and u = -1 (constants -4A^2, -4B^2) when they are small; the phase w is counted
+// from the turning point nearer its pole (u_c, or u_b with w - K), where sn (or cn) is small,
+// and the other point follows by the quarter-period shift (elliptic.hpp), not from a rounded
+// w +- K. Measured (stress test, 2e4 random states, hanging and upright within 1e-6 rad, small
+// swings, from rest): the initial state reproduced to 3e-15, energy and vertical momentum to
+// 3e-15 relative, R' = R hat(Omega) and Euler's equation by central differences to their
+// truncation error.
 //
 // Near a separatrix (k -> 1: released just short of the upright equilibrium) the elliptic
 // integrals lose digits; states with 1 - k < 1e-8 are rejected (elliptic.hpp).
@@ -40,8 +49,8 @@
 // constant theta. Rejected (InvalidInput "Omega0"): a state on the separatrix through the
 // upright equilibrium (B = 0 with f'(-1) = 0, not steady), whose motion takes infinite time.
 //
-// Accuracy: as the free body (free_rigid_body_exact.hpp): reduced Jacobi arguments, phases
-// rounded to eps |rate| t.
+// Accuracy over long horizons: as the free body (free_rigid_body_exact.hpp): reduced Jacobi
+// arguments, phases rounded to eps |rate| t.
 #pragma once
 
 #include <optional>
@@ -66,7 +75,8 @@ class LagrangeTopExact {
  public:
   /// Validates R0 (a rotation to 1e-10, "R0"), Omega0 (finite, "Omega0") and that the pendulum
   /// is a Lagrange top (else InvalidInput("inertia", "... not axisymmetric about rho ...")).
-  /// Throws InvalidInput; also for a state on the separatrix (see the header comment).
+  /// Throws InvalidInput; also ("Omega0") for a state on or within 1 - k = 1e-8 of a separatrix
+  /// (see the header comment).
   LagrangeTopExact(const Pendulum3D& pendulum, const Mat3& R0, const Vec3& Omega0);
 
   /// R(t), Omega(t) for any finite t (negative too); throws InvalidInput("t") otherwise.
