@@ -57,12 +57,32 @@ double relative(const Vec3& a, const Vec3& ref) {
 
 ReferenceRun::ReferenceRun(SimulateSpec spec) : spec_(std::move(spec)) {}
 
-std::string ReferenceRun::description() const { return spec_description(spec_); }
+std::shared_ptr<const ReferenceRun> ReferenceRun::exact_or_run(SimulateSpec spec, const fs::path& scenes_dir) {
+  auto reference = std::make_shared<ReferenceRun>(std::move(spec));
+  try {
+    if (const std::optional<ExactReference> exact = ExactReference::of(reference->spec_.load(scenes_dir).model)) {
+      reference->exact_description_ = exact->description();
+    }
+  } catch (const std::exception&) {
+    // SceneError or InvalidInput: the cases report it; the fine run stays the reference.
+  }
+  return reference;
+}
 
-const Sample& ReferenceRun::final_sample(const fs::path& scenes_dir) const {
+std::string ReferenceRun::description() const {
+  return exact_description_ ? *exact_description_ : spec_description(spec_);
+}
+
+void ReferenceRun::prepare(const fs::path& scenes_dir) const {
   std::call_once(once_, [&] {
     try {
       const Scene scene = spec_.load(scenes_dir);
+      if (exact_description_) {
+        std::string why_not;
+        exact_ = ExactReference::of(scene.model, &why_not);
+        if (!exact_) error_ = "exact reference of scene " + spec_.scene + ": " + why_not;
+        return;
+      }
       const std::unique_ptr<Method> method = make_method(spec_.method, spec_.options);
       Recorder recorder(scene.model, scene.horizon.output_every, nullptr, method->records_quaternion_norm());
       const Stats stats = method->run(scene, recorder);
@@ -76,7 +96,17 @@ const Sample& ReferenceRun::final_sample(const fs::path& scenes_dir) const {
     }
   });
   if (!error_.empty()) throw std::runtime_error(error_);
-  return final_;
+}
+
+Sample ReferenceRun::sample_at(double t, const fs::path& scenes_dir) const {
+  prepare(scenes_dir);
+  if (!exact_) return final_;
+  const baselines::ExactState s = exact_->state(t);
+  Sample sample;
+  sample.t = t;
+  sample.R = s.R;
+  sample.Omega = s.Omega;
+  return sample;
 }
 
 double final_state_error(const Model& model, const Sample& s, const Sample& ref) {
@@ -114,9 +144,9 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
   SimulateOptions options{ctx.out_dir / (ctx.case_id + ".csv"), ctx.command_line, {}};
   const std::string variant = spec_.edit ? spec_.edit->description : std::string();
   if (!variant.empty()) options.extra_metadata.push_back({"variant", variant});
-  const Sample* reference = nullptr;
   if (reference_) {
-    reference = &reference_->final_sample(ctx.scenes_dir);
+    // Prepared before the case runs: a reference that fails fails the case before its CSV.
+    (void)reference_->sample_at(0.0, ctx.scenes_dir);
     options.extra_metadata.push_back({"reference", reference_->description()});
   }
   const RunSummary r = simulate(scene, *method, options);
@@ -136,9 +166,10 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
   out.fields.push_back({"integrator_seconds", std::max(0.0, r.stats.wall_seconds - r.recording_seconds)});
   // The CSV's name relative to the suite's output directory (case ids may contain '/').
   out.fields.push_back({"csv_path", ctx.case_id + ".csv"});
-  if (reference != nullptr) {
-    const double e = out.completed ? final_state_error(scene.model, r.final_sample, *reference)
-                                   : std::numeric_limits<double>::quiet_NaN();
+  if (reference_) {
+    const double e = out.completed
+                         ? final_state_error(scene.model, r.final_sample, reference_->sample_at(r.final_sample.t, ctx.scenes_dir))
+                         : std::numeric_limits<double>::quiet_NaN();
     out.fields.push_back({"final_error", e});
     out.fields.push_back({"reference", reference_->description()});
   }

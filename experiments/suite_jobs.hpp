@@ -1,7 +1,8 @@
 // The suite case of the integrator suites: a scene (optionally edited in code: inertia, initial
 // rates) integrated by one method (LGVI, composed LGVI or baseline on a coordinate model) into
 // its own CSV, reported with cost (steps, evaluations, integrator wall time) and accuracy
-// (energy, orthogonality, momentum and, against a shared reference run, the final state).
+// (energy, orthogonality, momentum and, against a shared reference run or the scene's exact
+// solution, the final state).
 #pragma once
 
 #include <exception>
@@ -12,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "experiments/exact_reference.hpp"
 #include "experiments/method.hpp"
 #include "experiments/recorder.hpp"
 #include "experiments/scene.hpp"
@@ -36,21 +38,38 @@ struct SimulateSpec {
   Scene load(const std::filesystem::path& scenes_dir) const;
 };
 
-/// A fine run of a scene, computed once on first use (thread-safe) and shared by the cases
-/// compared with it. Nothing is written for it: its description goes into the cases' metadata.
+/// The reference the cases of a scene are compared with: a fine run of the scene, computed once
+/// on first use (thread-safe) and shared, or the scene's exact solution (ExactReference),
+/// evaluated at each case's own final time. Nothing is written for it: its description goes
+/// into the cases' metadata.
 class ReferenceRun {
  public:
+  /// The fine run `spec`.
   explicit ReferenceRun(SimulateSpec spec);
-  /// "lgvi-kahan-li6, h = 0.0001" (method, model, step or tolerance).
+  /// The exact solution of spec's scene when it has one (ExactReference::of), else the fine run
+  /// `spec`. Loads the scene to decide; a scene that does not load gets the run (its cases then
+  /// report the scene's error themselves).
+  static std::shared_ptr<const ReferenceRun> exact_or_run(SimulateSpec spec, const std::filesystem::path& scenes_dir);
+
+  /// "lgvi-kahan-li6, h = 0.0001" (method, model, step or tolerance), or the exact solution's
+  /// "exact (closed form, Celledoni et al. 2008)".
   std::string description() const;
-  /// The final sample; runs the reference on the first call. Throws std::runtime_error when the
-  /// reference run does not complete (each case using it then records status "error").
-  const Sample& final_sample(const std::filesystem::path& scenes_dir) const;
+  bool is_exact() const { return exact_description_.has_value(); }
+  /// The reference state for a case that ended at time t: the exact solution at t, or the final
+  /// sample of the fine run (final_state_error compares its time with the case's). Runs the
+  /// reference, or builds the exact solution, on the first call. Throws std::runtime_error when
+  /// the reference run does not complete or the scene has no exact solution after all (each case
+  /// using it then records status "error").
+  Sample sample_at(double t, const std::filesystem::path& scenes_dir) const;
 
  private:
+  void prepare(const std::filesystem::path& scenes_dir) const;
+
   SimulateSpec spec_;
+  std::optional<std::string> exact_description_;
   mutable std::once_flag once_;
   mutable Sample final_;
+  mutable std::optional<ExactReference> exact_;
   mutable std::string error_;
 };
 

@@ -320,10 +320,10 @@ TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
   const CliResult r = run_testbed(dir, {"scenes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  ASSERT_EQ(lines.size(), 6u) << r.out;
-  const char* names[] = {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "pendulum",
+  ASSERT_EQ(lines.size(), 7u) << r.out;
+  const char* names[] = {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
                          "pendulum-controlled"};
-  for (std::size_t i = 0; i < 6; ++i) {
+  for (std::size_t i = 0; i < 7; ++i) {
     EXPECT_EQ(lines[i].rfind(std::string(names[i]) + " ", 0), 0u) << lines[i];
     EXPECT_GT(lines[i].size(), 30u) << lines[i];
   }
@@ -347,8 +347,8 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
   std::vector<std::string> expected = {"summary.csv", "summary.jsonl"};
-  for (const char* scene :
-       {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "pendulum", "pendulum-controlled"}) {
+  for (const char* scene : {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
+                            "pendulum-controlled"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
       expected.push_back(scene + std::string(suffix));
     }
@@ -357,9 +357,9 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   EXPECT_EQ(files, expected);  // and no temporaries
 
   const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.jsonl"));
-  ASSERT_EQ(summary.size(), 12u);  // one JSON object per run
-  EXPECT_EQ(lines_of(read_text(dir.work() / "res" / "summary.csv")).size(), 13u);  // header + 12 rows
-  for (std::size_t i = 0; i < 12; ++i) {
+  ASSERT_EQ(summary.size(), 14u);  // one JSON object per run
+  EXPECT_EQ(lines_of(read_text(dir.work() / "res" / "summary.csv")).size(), 15u);  // header + 14 rows
+  for (std::size_t i = 0; i < 14; ++i) {
     for (const char* key : {"\"scene\": ", "\"method\": \"lgvi\"", "\"form\": ", "\"status\": \"completed\"",
                             "\"newton_iterations\": ", "\"max_newton_iterations\": ", "\"wall_seconds\": ",
                             "\"potential_evaluations\": ", "\"max_energy_error\": ",

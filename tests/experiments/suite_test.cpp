@@ -97,13 +97,13 @@ TEST(SuiteCases, EnergyDriftRunsEveryRosterMethodOnTheThreeUncontrolledScenes) {
   }
 }
 
-TEST(SuiteCases, WorkPrecisionCoversTheRequiredMethodsOnPendulumAndFreeBody) {
+TEST(SuiteCases, WorkPrecisionCoversTheRequiredMethodsOnPendulumFreeBodyAndLagrangeTop) {
   const Suite s = suite("work-precision", true);
   std::map<std::string, std::map<std::string, std::set<std::string>>> sweep;  // scene -> method -> h or rtol
   for (const SuiteCase& c : s.cases) {
     sweep[label(c, "scene")][label(c, "label")].insert(label(c, "rtol").empty() ? label(c, "h") : label(c, "rtol"));
   }
-  for (const char* scene : {"pendulum", "free-body"}) {
+  for (const char* scene : {"pendulum", "free-body", "lagrange-top"}) {
     for (const char* m : {"LGVI order 2", "LGVI order 4 (yoshida4)", "LGVI order 6 (kahan-li6)",
                           "cvode-adams (quaternion)", "cvode-bdf (quaternion)", "odeint-rk4 (quaternion)",
                           "odeint-rk4 (matrix)", "odeint-dopri5 (quaternion)", "odeint-dopri5 (matrix)",
