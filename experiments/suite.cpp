@@ -1,6 +1,7 @@
 #include "experiments/suite.hpp"
 
 #include <gsl/gsl_errno.h>
+#include <time.h>
 
 #include <algorithm>
 #include <atomic>
@@ -11,6 +12,7 @@
 #include <cstdio>
 #include <deque>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -113,6 +115,95 @@ const std::vector<std::string>& harness_columns() {
 std::size_t SuiteResult::unexpected() const {
   return static_cast<std::size_t>(
       std::count_if(cases.begin(), cases.end(), [](const CaseOutcome& c) { return !c.as_expected; }));
+}
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return std::numeric_limits<double>::quiet_NaN();
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+namespace {
+
+/// The repetitions of one timed computation so far.
+class TimingRecord {
+ public:
+  void add(const TimedRun& r) {
+    const double wall = std::max(0.0, r.wall_seconds - r.uncounted_seconds);
+    walls_.push_back(wall);
+    measured_ += wall;
+    // Not descheduled (the CPU bracket encloses the wall bracket, so CPU >= wall otherwise): the
+    // uncounted part, timed by the wall clock, was CPU time too.
+    if (r.wall_seconds - r.cpu_seconds <= 1e-6 + 1e-3 * r.wall_seconds) {
+      clean_cpu_min_ = std::min(clean_cpu_min_, std::max(0.0, r.cpu_seconds - r.uncounted_seconds));
+    }
+    if (wall < least_disturbed_wall_) {
+      least_disturbed_wall_ = wall;
+      least_disturbed_cpu_ = r.wall_seconds > 0.0 ? r.cpu_seconds * wall / r.wall_seconds : 0.0;
+    }
+  }
+  double measured() const { return measured_; }
+  void fail(std::string error) { error_ = std::move(error); }
+  bool failed() const { return !error_.empty(); }
+
+  Timing timing() const {
+    Timing t;
+    t.repetitions = walls_.size();
+    t.error = error_;
+    if (walls_.empty()) return t;
+    std::vector<double> w = walls_;
+    const auto mid = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
+    std::nth_element(w.begin(), mid, w.end());
+    t.wall_seconds_median = *mid;  // the upper median for an even count
+    t.wall_seconds_min = *std::min_element(walls_.begin(), walls_.end());
+    t.cpu_seconds_min = std::isfinite(clean_cpu_min_) ? clean_cpu_min_ : least_disturbed_cpu_;
+    return t;
+  }
+
+ private:
+  std::vector<double> walls_;
+  double measured_ = 0.0;
+  double clean_cpu_min_ = std::numeric_limits<double>::infinity();
+  double least_disturbed_wall_ = std::numeric_limits<double>::infinity();
+  double least_disturbed_cpu_ = 0.0;
+  std::string error_;
+};
+
+}  // namespace
+
+std::vector<Timing> time_serially(const std::vector<std::function<TimedRun()>>& runs, const TimingPolicy& policy,
+                                  const std::function<void(std::size_t, std::size_t)>& progress) {
+  using Clock = std::chrono::steady_clock;
+  const std::size_t rounds = std::max<std::size_t>(1, policy.rounds);
+  const std::size_t max_per_round = std::max<std::size_t>(1, policy.max_repetitions / rounds);
+  std::vector<TimingRecord> records(runs.size());
+  for (std::size_t round = 0; round < rounds; ++round) {
+    // Each pass brings every computation's measured total to (round + 1) / rounds of the target.
+    const double target = policy.min_measured_seconds * static_cast<double>(round + 1) / static_cast<double>(rounds);
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      TimingRecord& rec = records[i];
+      if (!runs[i] || rec.failed()) continue;
+      const auto start = Clock::now();
+      std::size_t n = 0;
+      try {
+        do {
+          rec.add(runs[i]());
+          ++n;
+        } while (rec.measured() < target && n < max_per_round &&
+                 std::chrono::duration<double>(Clock::now() - start).count() <
+                     policy.max_elapsed_seconds / static_cast<double>(rounds));
+      } catch (const std::exception& e) {
+        rec.fail(e.what());
+      } catch (...) {
+        rec.fail("unknown exception");
+      }
+      if (progress) progress(round, i);
+    }
+  }
+  std::vector<Timing> out;
+  out.reserve(records.size());
+  for (const TimingRecord& r : records) out.push_back(r.timing());
+  return out;
 }
 
 namespace {
@@ -281,6 +372,9 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   // and concurrent runs never meet GSL's aborting default handler.
   gsl_set_error_handler_off();
 
+  const auto context = [&options](const SuiteCase& c) -> JobContext {
+    return {options.out_dir, options.scenes_dir, c.id, options.command_line};
+  };
   const std::size_t total = indices.size();
   std::vector<CaseOutcome> outcomes(total);
   std::atomic<std::size_t> next{0};
@@ -296,7 +390,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
       o.id = c.id;
       const auto start = Clock::now();
       try {
-        o.result = c.job->run({options.out_dir, options.scenes_dir, c.id, options.command_line});
+        o.result = c.job->run(context(c));
       } catch (const std::exception& e) {
         o.result = JobResult{false, "error", e.what(), {}};
       } catch (...) {
@@ -340,6 +434,68 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
              << std::flush;
   }
   for (std::thread& t : pool) t.join();
+
+  // Timed cases on this thread with nothing else of the suite running (see the header): their
+  // cost is measured apart from the parallel runs above.
+  std::vector<std::size_t> timed;  // positions in `indices`
+  std::vector<std::function<TimedRun()>> timed_runs;
+  for (std::size_t k = 0; k < total; ++k) {
+    const SuiteCase& c = suite.cases[indices[k]];
+    CaseOutcome& o = outcomes[k];
+    if (!c.job->timed() || o.result.status == "error") continue;
+    // An exception while timing turns the case into an error row; the other cases go on.
+    std::string error;
+    try {
+      std::function<TimedRun()> run = c.job->prepare_timing(context(c), o.result);
+      if (!run) continue;
+      timed.push_back(k);
+      timed_runs.push_back(std::move(run));
+    } catch (const std::exception& e) {
+      error = e.what();
+    } catch (...) {
+      error = "unknown exception";
+    }
+    if (!error.empty()) {
+      o.result = JobResult{false, "error", "timing: " + error, {}};
+      o.as_expected = false;
+    }
+  }
+  if (!timed.empty()) {
+    const TimingPolicy policy;
+    progress << "timing " << timed.size() << " case" << (timed.size() == 1 ? "" : "s") << " in " << policy.rounds
+             << " passes, one at a time (nothing else runs; each repeated until "
+             << policy.min_measured_seconds * 1e3 << " ms are measured)\n"
+             << std::flush;
+    const auto timing_start = Clock::now();
+    std::size_t last_reported = 0;
+    const std::vector<Timing> timings =
+        time_serially(timed_runs, policy, [&](std::size_t round, std::size_t i) {
+          // One progress line per pass and per tenth of it.
+          const std::size_t done = round * timed.size() + i + 1;
+          const std::size_t all = policy.rounds * timed.size();
+          if (done != all && done * 10 / all == last_reported * 10 / all) return;
+          last_reported = done;
+          const double elapsed = std::chrono::duration<double>(Clock::now() - timing_start).count();
+          progress << "[timing " << done << "/" << all << "] " << format_duration(elapsed) << " elapsed, ~"
+                   << format_duration(elapsed / static_cast<double>(done) * static_cast<double>(all - done))
+                   << " left\n"
+                   << std::flush;
+        });
+    for (std::size_t n = 0; n < timed.size(); ++n) {
+      const SuiteCase& c = suite.cases[indices[timed[n]]];
+      CaseOutcome& o = outcomes[timed[n]];
+      if (timings[n].error.empty()) {
+        const Fields more = c.job->timing_fields(timings[n]);
+        o.result.fields.insert(o.result.fields.end(), more.begin(), more.end());
+      } else {
+        o.result = JobResult{false, "error", "timing: " + timings[n].error, {}};
+      }
+      o.as_expected = as_expected(c.expect, o.result);
+      if (!o.as_expected) {
+        progress << "timing " << o.id << ": UNEXPECTED " << o.result.status << " (" << o.result.detail << ")\n";
+      }
+    }
+  }
 
   write_summaries(suite, indices, outcomes, options);
   progress << "wrote " << (options.out_dir / "summary.csv").string() << " and summary.jsonl\n";

@@ -12,6 +12,15 @@
 //   figures/tables     rendered from summary.csv read back (render_suite), so a merged sharded
 //                      run is rendered by `suite NAME --render-only --out MERGED`.
 //
+// Timing: a case whose cost is a result (Job::timed(): the work-precision and long-horizon
+// cases) runs like any other in the pool of `--jobs` threads, which writes its files. Once every
+// case has run, the harness times the timed cases on one thread with nothing else of the suite
+// running (time_serially, TimingPolicy): each case's bare computation (Job::prepare_timing,
+// nothing written) in 3 passes over all timed cases, repeated within a pass until 20 ms / 3 are
+// measured, reporting the minimum per run of the wall time (steady_clock) and of the thread CPU
+// time (Job::timing_fields). Timed in parallel by one clock-read pair, the same case's time
+// varied by up to 61x between runs; see experiments/timing_stability.py and the README.
+//
 // Sharding: `--shard i/N` (0 <= i < N) takes the i-th of N contiguous blocks of the case list
 // (block sizes differ by at most one), so the shards are disjoint, their union is the suite and
 // concatenating them in order keeps the case order.
@@ -60,6 +69,51 @@ struct JobResult {
   Fields fields;
 };
 
+/// One execution of a timed computation: wall (std::chrono::steady_clock) and thread CPU time
+/// (thread_cpu_seconds) over the same bracket, and the part of it that does not count (e.g. the
+/// recording of an integration, measured by the job's own wall clock).
+struct TimedRun {
+  double wall_seconds = 0.0;
+  double cpu_seconds = 0.0;
+  double uncounted_seconds = 0.0;
+};
+
+/// How timed computations are repeated: in `rounds` passes over all of them, each pass running a
+/// computation until it has measured min_measured_seconds / rounds of wall time (at least once;
+/// at most max_repetitions times in all, or for max_elapsed_seconds / rounds per pass when its
+/// counted part is nearly nothing). A run longer than 20 ms is thus timed once per pass, and a
+/// disturbance of the machine (measured: stretches of a second or more in which everything runs
+/// ~1.5x slower, CPU time included) spoils at most one pass.
+struct TimingPolicy {
+  double min_measured_seconds = 0.02;
+  std::size_t rounds = 3;
+  std::size_t max_repetitions = 100000;
+  double max_elapsed_seconds = 0.5;
+};
+
+/// What the repetitions of one computation measured, counted part only (TimedRun minus its
+/// uncounted part): the minimum wall time (the run least disturbed by the rest of the machine),
+/// the median wall time, the minimum CPU time over the repetitions the thread was not
+/// descheduled in (wall - CPU below 1 us + 0.1%: there the wall-clock uncounted part is also
+/// CPU time; when every repetition was, CPU x counted / total wall of the least disturbed one),
+/// and the number of repetitions.
+struct Timing {
+  double wall_seconds_min = 0.0;
+  double wall_seconds_median = 0.0;
+  double cpu_seconds_min = 0.0;
+  std::size_t repetitions = 0;
+  std::string error;  ///< the computation threw (its message): it was not run again
+};
+
+/// Times each computation of `runs` as `policy` says, in turn on the calling thread; calls
+/// `progress(round, index)` after each computation of each round (may be empty). Returns one
+/// Timing per computation (empty computations: repetitions = 0; one that threw: its error).
+std::vector<Timing> time_serially(const std::vector<std::function<TimedRun()>>& runs, const TimingPolicy& policy,
+                                  const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// CPU time consumed by the calling thread (clock_gettime(CLOCK_THREAD_CPUTIME_ID)), seconds.
+double thread_cpu_seconds();
+
 /// One runnable case. Jobs are shared between threads: run() is const and thread-safe.
 class Job {
  public:
@@ -71,6 +125,23 @@ class Job {
   /// the computation are statuses in the result; an exception is recorded by the harness as
   /// status "error" with its message (the suite goes on).
   virtual JobResult run(const JobContext& ctx) const = 0;
+  /// True for a case whose cost is a result (work-precision): after every case of the shard has
+  /// run, the harness times it with nothing else of the suite running (see the header).
+  virtual bool timed() const { return false; }
+  /// Timed jobs: the case's computation prepared for timing (inputs loaded), as a function that
+  /// runs it once without writing anything and returns what it measured; empty when there is
+  /// nothing to time (e.g. the run was rejected). `result` is this case's run() result. Called
+  /// only for timed jobs whose run() returned; an exception is recorded as status "error".
+  virtual std::function<TimedRun()> prepare_timing(const JobContext& ctx, const JobResult& result) const {
+    (void)ctx;
+    (void)result;
+    return {};
+  }
+  /// Timed jobs: the summary fields reporting `timing` (appended to the run's fields).
+  virtual Fields timing_fields(const Timing& timing) const {
+    (void)timing;
+    return {};
+  }
 };
 
 struct SuiteCase {

@@ -1,5 +1,6 @@
 #include "experiments/suite_jobs.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -174,6 +175,29 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
     out.fields.push_back({"reference", reference_->description()});
   }
   return out;
+}
+
+std::function<TimedRun()> SimulateJob::prepare_timing(const JobContext& ctx, const JobResult& result) const {
+  if (result.status == "rejected-input") return {};  // nothing ran
+  const auto scene = std::make_shared<const Scene>(spec_.load(ctx.scenes_dir));
+  const std::shared_ptr<const Method> method = make_method(spec_.method, spec_.options);
+  return [scene, method]() {
+    using Clock = std::chrono::steady_clock;
+    Recorder recorder(scene->model, scene->horizon.output_every, nullptr, method->records_quaternion_norm());
+    const double cpu_start = thread_cpu_seconds();
+    const auto start = Clock::now();
+    (void)method->run(*scene, recorder);
+    const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+    const double cpu = thread_cpu_seconds() - cpu_start;
+    return TimedRun{wall, cpu, recorder.seconds()};
+  };
+}
+
+Fields SimulateJob::timing_fields(const Timing& t) const {
+  return {{"integrator_seconds_min", t.wall_seconds_min},
+          {"integrator_seconds_median", t.wall_seconds_median},
+          {"integrator_cpu_seconds", t.cpu_seconds_min},
+          {"timing_repetitions", static_cast<std::int64_t>(t.repetitions)}};
 }
 
 }  // namespace lgvi::experiments

@@ -33,6 +33,9 @@ struct SimulateSpec {
   std::optional<SceneEdit> edit;
   std::string method = "lgvi";
   MethodOptions options;
+  /// The case's cost is a result (work-precision, long-horizon): the harness times it again
+  /// alone and repeated (SimulateJob::prepare_timing).
+  bool timed = false;
 
   /// Loads, overrides and edits the scene. Throws SceneError; InvalidInput from the edit.
   Scene load(const std::filesystem::path& scenes_dir) const;
@@ -86,9 +89,18 @@ class SimulateJob final : public Job {
   /// Writes ctx.case_id + ".csv". Fields: RunSummary::to_fields() plus "variant", "h_omega"
   /// (h |Omega0|), "evaluations" (baselines: RHS evaluations of the integration, without the
   /// output_rhs_evaluations spent on interpolating output times; LGVI: substeps, one force and
-  /// moment evaluation each = steps x stages), "integrator_seconds" (wall time minus recording)
+  /// moment evaluation each = steps x stages), "integrator_seconds" (wall time minus recording,
+  /// of this one run, which may share the machine with other cases)
   /// and, with a reference, "final_error" and "reference".
   JobResult run(const JobContext& ctx) const override;
+  bool timed() const override { return spec_.timed; }
+  /// The same integration as run() with a recorder that writes nothing; the recorder's own time
+  /// (diagnostics) is the uncounted part, as run() takes it out of integrator_seconds.
+  std::function<TimedRun()> prepare_timing(const JobContext& ctx, const JobResult& result) const override;
+  /// "integrator_seconds_min" (minimum wall time per run, recording excluded),
+  /// "integrator_seconds_median", "integrator_cpu_seconds" (minimum thread CPU time per run) and
+  /// "timing_repetitions".
+  Fields timing_fields(const Timing& timing) const override;
   const SimulateSpec& spec() const { return spec_; }
 
  private:

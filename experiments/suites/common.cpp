@@ -69,6 +69,12 @@ const std::vector<std::string>& simulation_columns() {
   return columns;
 }
 
+const std::vector<std::string>& timing_columns() {
+  static const std::vector<std::string> columns = {"integrator_seconds_min", "integrator_seconds_median",
+                                                   "integrator_cpu_seconds", "timing_repetitions"};
+  return columns;
+}
+
 SuiteCase simulate_case(const std::string& id, const std::string& group, SimulateSpec spec, const MethodSpec& m,
                         Expectation expect, std::shared_ptr<const ReferenceRun> reference) {
   spec.method = m.method;
@@ -204,6 +210,67 @@ fs::path plot_xy(const RenderContext& ctx, const std::string& png_name, const st
   write_curve_list(list, args);
   run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "xy_loglog.gp", png, {title, xlabel, ylabel, list.path().string()});
   return png;
+}
+
+std::vector<XyCurve> curves_by_label(const std::vector<const SummaryRow*>& rows, const std::string& x,
+                                     const std::string& y) {
+  std::vector<XyCurve> curves;
+  std::map<std::string, std::size_t> where;
+  for (const SummaryRow* r : rows) {
+    if (r->text("status") != "completed") continue;
+    const auto [it, inserted] = where.emplace(r->text("label"), curves.size());
+    if (inserted) curves.push_back({r->text("label"), {}});
+    const auto xv = r->number(x);
+    const auto yv = r->number(y);
+    if (xv && yv) curves[it->second].points.emplace_back(*xv, *yv);
+  }
+  return curves;
+}
+
+namespace {
+
+/// "rtol = 1e-06" or "h = 0.01": the swept setting of a row.
+std::string setting(const SummaryRow& r) {
+  const auto rtol = r.number("rtol");
+  return rtol ? "rtol = " + fmt(*rtol) : "h = " + fmt(r.number("h").value_or(0.0));
+}
+
+}  // namespace
+
+std::string cheapest_table(const std::vector<std::pair<std::string, std::vector<const SummaryRow*>>>& groups,
+                           const std::string& error_column, const std::string& error_heading,
+                           const std::vector<double>& levels) {
+  std::string t = "| scene | " + error_heading +
+                  " <= | cheapest by integrator time | time per run [s] | error | cheapest by evaluations | "
+                  "evaluations | error |\n|---|---|---|---|---|---|---|---|\n";
+  for (const auto& [scene, rows] : groups) {
+    for (const double level : levels) {
+      const SummaryRow* by_time = nullptr;
+      const SummaryRow* by_evals = nullptr;
+      for (const SummaryRow* r : rows) {
+        const auto e = r->number(error_column);
+        if (r->text("status") != "completed" || !e || *e > level) continue;
+        const auto time = r->number("integrator_seconds_min");
+        if (time && (by_time == nullptr || *time < *by_time->number("integrator_seconds_min"))) by_time = r;
+        const auto evals = r->number("evaluations");
+        if (evals && (by_evals == nullptr || *evals < *by_evals->number("evaluations"))) by_evals = r;
+      }
+      t += "| " + scene + " | " + fmt(level) + " | ";
+      if (by_time == nullptr) {
+        t += "none reached | | | ";
+      } else {
+        t += by_time->text("label") + ", " + setting(*by_time) + " | " +
+             fmt(*by_time->number("integrator_seconds_min")) + " | " + fmt(*by_time->number(error_column)) + " | ";
+      }
+      if (by_evals == nullptr) {
+        t += "none reached | | |\n";
+      } else {
+        t += by_evals->text("label") + ", " + setting(*by_evals) + " | " + by_evals->text("evaluations") + " | " +
+             fmt(*by_evals->number(error_column)) + " |\n";
+      }
+    }
+  }
+  return t;
 }
 
 fs::path write_text_file(const RenderContext& ctx, const std::string& name, const std::string& text) {

@@ -42,6 +42,10 @@ std::vector<MethodSpec> long_run_methods(bool quick);
 
 /// Summary columns of the integrator suites.
 const std::vector<std::string>& simulation_columns();
+/// Summary columns of the timed integrator suites (SimulateJob::measure), appended to
+/// simulation_columns(): integrator_seconds_min, integrator_seconds_median,
+/// integrator_cpu_seconds, timing_repetitions.
+const std::vector<std::string>& timing_columns();
 
 /// A case running `spec` (case id "<prefix><scene>-<method id>[suffix]").
 SuiteCase simulate_case(const std::string& id, const std::string& group, SimulateSpec spec, const MethodSpec& m,
@@ -75,6 +79,20 @@ struct XyCurve {
 std::filesystem::path plot_xy(const RenderContext& ctx, const std::string& png_name, const std::string& title,
                               const std::string& xlabel, const std::string& ylabel, const std::vector<XyCurve>& curves);
 
+/// One curve per label (first-appearance order) of the completed rows' (x, y) columns, rows
+/// without both numbers left out: a work-precision diagram's curves.
+std::vector<XyCurve> curves_by_label(const std::vector<const SummaryRow*>& rows, const std::string& x,
+                                     const std::string& y);
+
+/// Markdown table of the cheapest method per accuracy level: for each group and each level, among
+/// the completed rows whose `error_column` is at most the level, the one with the least
+/// integrator time per run (integrator_seconds_min, rows without it are not ranked by time) and
+/// the one with the fewest evaluations; "none reached" when no row is that accurate.
+/// error_heading names the error in the header ("final-state error").
+std::string cheapest_table(const std::vector<std::pair<std::string, std::vector<const SummaryRow*>>>& groups,
+                           const std::string& error_column, const std::string& error_heading,
+                           const std::vector<double>& levels);
+
 /// Writes text to ctx.out_dir / name atomically; returns the path.
 std::filesystem::path write_text_file(const RenderContext& ctx, const std::string& name, const std::string& text);
 
@@ -90,6 +108,7 @@ Suite energy_drift_suite(const SuiteParams& params);
 Suite orthogonality_suite(const SuiteParams& params);
 Suite momentum_suite(const SuiteParams& params);
 Suite work_precision_suite(const SuiteParams& params);
+Suite long_horizon_suite(const SuiteParams& params);
 Suite extremes_suite(const SuiteParams& params);
 /// Optimal control (experiments/suites/sensitivity.cpp, shooting.cpp).
 Suite sensitivity_suite(const SuiteParams& params);

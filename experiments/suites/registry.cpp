@@ -20,6 +20,8 @@ const std::vector<SuiteEntry>& suite_registry() {
       {"momentum", "momentum maps vs time: pendulum, free body, connected bodies", suites::momentum_suite},
       {"work-precision", "final-state and energy error vs wall time and evaluations, sweeping h and rtol",
        suites::work_precision_suite},
+      {"long-horizon", "energy, momentum, orthogonality error after 10^4 s (quick 10^3 s) vs cost, sweeping h and rtol",
+       suites::long_horizon_suite},
       {"extremes", "where methods break: large h|Omega|, fast spin, near-flat inertia, tiny steps, gimbal lock",
        suites::extremes_suite},
       {"sensitivity", "transition matrices: LGVI linearization and CVODES vs finite differences and each other, over T",

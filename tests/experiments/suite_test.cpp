@@ -8,12 +8,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 #include <thread>
 
 #include "experiments/atomic_file.hpp"
 #include "experiments/csv_writer.hpp"
+#include "experiments/plot.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/suite.hpp"
 #include "experiments/suite_jobs.hpp"
@@ -38,8 +41,8 @@ Suite suite(const std::string& name, bool quick) {
   return experiments::make_suite(name, SuiteParams{quick, experiments::default_scenes_dir()});
 }
 
-const std::vector<std::string> kSuites = {"energy-drift", "orthogonality", "momentum", "work-precision", "extremes",
-                                          "sensitivity", "shooting"};
+const std::vector<std::string> kSuites = {"energy-drift", "orthogonality", "momentum",    "work-precision",
+                                          "long-horizon", "extremes",      "sensitivity", "shooting"};
 
 // --- case lists ----------------------------------------------------------------------------------
 
@@ -110,6 +113,51 @@ TEST(SuiteCases, WorkPrecisionCoversTheRequiredMethodsOnPendulumFreeBodyAndLagra
                           "gsl-rk8pd (quaternion)", "gsl-rk4imp (quaternion)"}) {
       ASSERT_TRUE(sweep[scene].count(m)) << scene << ": " << m;
       EXPECT_GE(sweep[scene][m].size(), 5u) << scene << ": " << m << " needs a sweep";
+    }
+  }
+}
+
+TEST(SuiteCases, LongHorizonSweepsStepsAndTolerancesOfEveryRosterMethodOverTheLongHorizon) {
+  for (const bool quick : {true, false}) {
+    const Suite s = suite("long-horizon", quick);
+    const double t_final = quick ? 1e3 : 1e4;
+    // scene -> label -> swept h (fixed-step) or rtol (adaptive), with the expectation of each h
+    std::map<std::string, std::map<std::string, std::map<double, Expectation>>> sweep;
+    for (const SuiteCase& c : s.cases) {
+      const auto* job = dynamic_cast<const experiments::SimulateJob*>(c.job.get());
+      ASSERT_NE(job, nullptr) << c.id;
+      const experiments::SimulateSpec& spec = job->spec();
+      EXPECT_TRUE(spec.timed) << c.id;
+      EXPECT_EQ(spec.overrides.t_final, t_final) << c.id;
+      // 1000 samples (every K-th step), within rounding of K: enough to catch the maximum errors.
+      const double samples = t_final / *spec.overrides.h / static_cast<double>(*spec.overrides.output_every);
+      EXPECT_GE(samples, 1000.0) << c.id;
+      EXPECT_LT(samples, 2000.0) << c.id;
+      const bool adaptive = !label(c, "rtol").empty();
+      const double x = std::stod(adaptive ? label(c, "rtol") : label(c, "h"));
+      sweep[label(c, "scene")][label(c, "label")][adaptive ? -x : x] = c.expect;  // rtol negated: apart from h
+    }
+    EXPECT_EQ(sweep.size(), 3u);
+    for (const char* scene : {"free-body", "pendulum", "dumbbell"}) {
+      for (const char* m : {"LGVI order 2", "LGVI order 4 (yoshida4)", "LGVI order 6 (kahan-li6)",
+                            "odeint-rk4 (quaternion)", "odeint-rk4 (quaternion-renormalized)", "odeint-rk4 (matrix)",
+                            "cvode-adams (quaternion)", "cvode-bdf (quaternion)", "odeint-dopri5 (quaternion)",
+                            "gsl-rk8pd (quaternion)"}) {
+        ASSERT_TRUE(sweep[scene].count(m)) << scene << ": " << m;
+        const auto& values = sweep[scene][m];
+        EXPECT_GE(values.size(), 3u) << scene << ": " << m << " needs a sweep";
+        if (values.begin()->first < 0.0) {  // adaptive: must complete at every tolerance
+          for (const auto& [rtol, e] : values) EXPECT_EQ(e, Expectation::Complete) << scene << ": " << m;
+          continue;
+        }
+        // Fixed step: the two largest steps are probes (may fail), the smaller ones must complete.
+        std::size_t n = 0;
+        for (auto it = values.rbegin(); it != values.rend(); ++it, ++n) {
+          EXPECT_EQ(it->second, n < 2 ? Expectation::Either : Expectation::Complete) << scene << ": " << m << " h "
+                                                                                     << it->first;
+        }
+        EXPECT_GE(values.size(), quick ? 4u : 8u) << scene << ": " << m;
+      }
     }
   }
 }
@@ -360,6 +408,58 @@ TEST(SuiteEndToEnd, QuickExtremesRunsRecordsAndPlots) {
   EXPECT_NE(table.find("coordinate singularity"), std::string::npos);
 }
 
+TEST(SuiteEndToEnd, LongHorizonTinyRunTimesEveryCaseAndDrawsItsFiguresAndTables) {
+  // Four cheap cases of the quick suite, with its renderer: the free body over 10^3 s at the
+  // sweep's two largest steps (the LGVI fails at 0.4, completes at 0.2), RK4 and rk8pd.
+  const Suite quick = suite("long-horizon", true);
+  Suite s = quick;
+  s.cases.clear();
+  const std::vector<std::string> ids = {"free-body-lgvi-h0.4", "free-body-lgvi-h0.2",
+                                        "free-body-odeint-rk4-quaternion-h0.2",
+                                        "free-body-gsl-rk8pd-quaternion-rtol1e-06"};
+  for (const std::string& id : ids) {
+    const auto it =
+        std::find_if(quick.cases.begin(), quick.cases.end(), [&](const SuiteCase& c) { return c.id == id; });
+    ASSERT_NE(it, quick.cases.end()) << id;
+    s.cases.push_back(*it);
+  }
+  TempDir dir;
+  experiments::SuiteOptions options;
+  options.out_dir = dir.work() / "res";
+  options.scenes_dir = experiments::default_scenes_dir();
+  options.plots_dir = experiments::default_plots_dir();
+  options.gnuplot = experiments::default_gnuplot();
+  options.jobs = 2;
+  std::ostringstream progress;
+  const experiments::SuiteResult r = experiments::run_suite(s, options, progress);
+  EXPECT_TRUE(r.all_ok()) << progress.str();
+  const auto rows = experiments::read_summary_csv(options.out_dir / "summary.csv");
+  ASSERT_EQ(rows.size(), ids.size());
+  EXPECT_EQ(rows[0].text("status"), "rotation update failed");  // beyond the LGVI's largest step
+  for (const auto& row : rows) {
+    const std::string& id = row.text("case");
+    // Every case that ran is timed: 3 passes (at least one repetition each), min <= median.
+    ASSERT_TRUE(row.number("timing_repetitions").has_value()) << id;
+    EXPECT_GE(*row.number("timing_repetitions"), 3.0) << id;
+    EXPECT_GT(row.number("integrator_seconds_min").value_or(0.0), 0.0) << id;
+    EXPECT_LE(*row.number("integrator_seconds_min"), *row.number("integrator_seconds_median")) << id;
+    EXPECT_GT(row.number("integrator_cpu_seconds").value_or(0.0), 0.0) << id;
+    if (row.text("status") != "completed") continue;
+    // ... and recorded once: the case CSV holds the 1000 samples and the initial state.
+    EXPECT_EQ(read_csv(options.out_dir / row.text("csv_path")).rows.size(), 1001u) << id;
+    EXPECT_TRUE(row.number("max_energy_error").has_value()) << id;
+    EXPECT_TRUE(row.number("max_momentum_drift").has_value()) << id;
+  }
+  for (const char* f : {"free-body-energy-time.png", "free-body-energy-evaluations.png", "free-body-momentum-time.png",
+                        "free-body-orthogonality-time.png"}) {
+    EXPECT_EQ(read_text(options.out_dir / f).substr(1, 3), "PNG") << f;
+  }
+  const std::string table = read_text(options.out_dir / "long-horizon-table.md");
+  EXPECT_NE(table.find("| free-body | 0.01 | "), std::string::npos) << table;
+  EXPECT_NE(table.find("| free-body | LGVI order 2 | 0.2 | "), std::string::npos) << table;
+  EXPECT_NE(table.find("h = 0.4: rotation update failed"), std::string::npos) << table;
+}
+
 TEST(SuiteEndToEnd, ACaseThatDoesNotEndAsExpectedMakesTheExitStatusTwo) {
   // The pendulum's rotation update fails at h = 0.125 (see CliSimulate): the default suite
   // expects every run to complete.
@@ -442,6 +542,129 @@ TEST(SuiteJobs, AnyJobRunsRecordsAndAnExceptionBecomesAnErrorRow) {
   EXPECT_FALSE(rows[2].number("residual").has_value());
   EXPECT_NE(progress.str().find("[4/4]"), std::string::npos) << progress.str();
   EXPECT_NE(progress.str().find("UNEXPECTED"), std::string::npos) << progress.str();
+}
+
+// --- timing -------------------------------------------------------------------------------------
+
+TEST(SuiteTiming, PassesInterleaveTheComputationsAndRepeatShortOnesUntil20msAreMeasured) {
+  // Computations that report fixed times (no clock): 2^-10 s counted of 2^-9 s (the rest
+  // uncounted; powers of two keep the sums exact), and 50 ms, whose CPU time says it was
+  // descheduled in every other repetition.
+  int calls_long = 0;
+  int calls_throwing = 0;
+  const double q = std::ldexp(1.0, -10);
+  const std::vector<std::function<experiments::TimedRun()>> runs = {
+      [q] { return experiments::TimedRun{2 * q, 2 * q, q}; },
+      {},  // nothing to time
+      [&] {
+        ++calls_long;
+        return calls_long % 2 == 1 ? experiments::TimedRun{0.050, 0.040, 0.0}
+                                   : experiments::TimedRun{0.051, 0.051, 0.0};
+      },
+      [&]() -> experiments::TimedRun {
+        ++calls_throwing;
+        throw std::runtime_error("scene file vanished");
+      },
+  };
+  std::vector<std::pair<std::size_t, std::size_t>> order;
+  const experiments::TimingPolicy policy;  // 20 ms in 3 passes
+  const auto t = experiments::time_serially(
+      runs, policy, [&](std::size_t round, std::size_t i) { order.emplace_back(round, i); });
+  ASSERT_EQ(t.size(), 4u);
+  // Passes over all computations, not one computation at a stretch: a slow spell of the machine
+  // spoils at most one pass of each. The one that threw is left out after its first pass.
+  EXPECT_EQ(order, (std::vector<std::pair<std::size_t, std::size_t>>{
+                       {0, 0}, {0, 2}, {0, 3}, {1, 0}, {1, 2}, {2, 0}, {2, 2}}));
+  // Passes end once 20/3, 40/3 and 20 ms are measured: after 7, 14 and 21 runs of 0.98 ms.
+  EXPECT_EQ(t[0].repetitions, 21u);
+  EXPECT_EQ(t[0].wall_seconds_min, q);
+  EXPECT_EQ(t[0].cpu_seconds_min, q);  // the uncounted part taken out of both clocks
+  EXPECT_EQ(t[1].repetitions, 0u);
+  // Longer than 20 ms: once per pass; CPU only from the repetitions that were not descheduled.
+  EXPECT_EQ(t[2].repetitions, 3u);
+  EXPECT_DOUBLE_EQ(t[2].wall_seconds_min, 0.050);
+  EXPECT_DOUBLE_EQ(t[2].wall_seconds_median, 0.050);
+  EXPECT_DOUBLE_EQ(t[2].cpu_seconds_min, 0.051);
+  // One that throws is reported and not run again.
+  EXPECT_EQ(calls_throwing, 1);
+  EXPECT_EQ(t[3].error, "scene file vanished");
+  EXPECT_TRUE(t[0].error.empty());
+}
+
+/// A timed toy case: run() takes a few milliseconds; its timed computation checks that it runs
+/// after every case's run() and alone.
+class TimedToyJob final : public experiments::Job {
+ public:
+  struct Shared {
+    std::atomic<int> running{0};   // run()s in progress
+    std::atomic<int> finished{0};  // run()s done
+    std::atomic<int> timing{0};    // timed computations in progress
+    std::atomic<int> violations{0};
+    int total = 0;
+  };
+  TimedToyJob(Shared& shared, bool timed) : shared_(shared), timed_(timed) {}
+  void validate(const fs::path&) const override {}
+  experiments::JobResult run(const experiments::JobContext&) const override {
+    ++shared_.running;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    --shared_.running;
+    ++shared_.finished;
+    return {true, "completed", "slept", {}};
+  }
+  bool timed() const override { return timed_; }
+  std::function<experiments::TimedRun()> prepare_timing(const experiments::JobContext&,
+                                                        const experiments::JobResult&) const override {
+    return [this] {
+      if (shared_.running != 0 || shared_.finished != shared_.total || ++shared_.timing != 1) ++shared_.violations;
+      const auto start = std::chrono::steady_clock::now();
+      const double cpu = experiments::thread_cpu_seconds();
+      while (std::chrono::steady_clock::now() - start < std::chrono::microseconds(500)) {
+      }
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double cpu_used = experiments::thread_cpu_seconds() - cpu;
+      --shared_.timing;
+      return experiments::TimedRun{wall, cpu_used, 0.0};
+    };
+  }
+  experiments::Fields timing_fields(const experiments::Timing& t) const override {
+    return {{"seconds_min", t.wall_seconds_min}, {"repetitions", static_cast<std::int64_t>(t.repetitions)}};
+  }
+
+ private:
+  Shared& shared_;
+  bool timed_;
+};
+
+TEST(SuiteTiming, TimedCasesAreTimedAfterEveryCaseHasRunAndOneAtATime) {
+  TempDir dir;
+  TimedToyJob::Shared shared;
+  Suite s;
+  s.name = "toy";
+  s.columns = {"seconds_min", "repetitions"};
+  for (int i = 0; i < 8; ++i) {
+    s.cases.push_back({"case" + std::to_string(i), "toy", {}, Expectation::Complete,
+                       std::make_shared<TimedToyJob>(shared, i % 2 == 0)});
+  }
+  shared.total = static_cast<int>(s.cases.size());
+  experiments::SuiteOptions options;
+  options.out_dir = dir.work() / "res";
+  options.jobs = 3;
+  std::ostringstream progress;
+  const experiments::SuiteResult r = experiments::run_suite(s, options, progress);
+  EXPECT_TRUE(r.all_ok());
+  EXPECT_EQ(shared.violations, 0);
+  const auto rows = experiments::read_summary_csv(options.out_dir / "summary.csv");
+  ASSERT_EQ(rows.size(), 8u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (i % 2 == 0) {
+      // A busy 0.5 ms per run, at least once per pass.
+      EXPECT_GE(rows[i].number("seconds_min").value_or(0.0), 500e-6) << i;
+      EXPECT_GE(rows[i].number("repetitions").value_or(0.0), 3.0) << i;
+    } else {
+      EXPECT_EQ(rows[i].text("repetitions"), "") << i;  // untimed
+    }
+  }
+  EXPECT_NE(progress.str().find("timing 4 cases"), std::string::npos) << progress.str();
 }
 
 TEST(SuiteJobs, FinalStateErrorIsTheLargestRelativeDifference) {
