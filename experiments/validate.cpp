@@ -107,7 +107,9 @@ Verdict judge(MetricKind kind, double accepted, double now, double floor, std::o
     case MetricKind::Truncation:
     case MetricKind::Cost: {
       const double rel = kind == MetricKind::Cost ? kCostRelative : kTruncationRelative;
-      const double band = rel * std::abs(accepted);
+      // A truncation error also carries a round-off share, which moves with the operation order:
+      // its band adds the round-off factor times the metric's floor (0 where none is given).
+      const double band = rel * std::abs(accepted) + (kind == MetricKind::Truncation ? kRoundOffFactor * floor : 0.0);
       if (std::abs(now - accepted) <= band) return Verdict::Pass;
       return now > accepted ? Verdict::Regressed : Verdict::Improved;
     }

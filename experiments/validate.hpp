@@ -14,8 +14,10 @@
 //               error against an exact or finer solution): the same discretization reproduces
 //               it to round-off times the trajectory's amplification (< 1e6 on the horizons
 //               used: ~1e-10 relative), while any change of the scheme, its tolerance or chart
-//               changes its leading digits. pass within relative 1e-6; larger: REGRESSED,
-//               smaller: improved.
+//               changes its leading digits. pass within relative 1e-6 plus 10 x the metric's
+//               round-off floor where it has one (its round-off share moves with the operation
+//               order: energy errors eps sqrt(N), errors against an exact solution eps N);
+//               larger: REGRESSED, smaller: improved.
 //   round-off   an error at the round-off floor (orthogonality, momentum maps of the LGVI, a
 //               renormalized quaternion's norm, a converged violation): it random-walks with
 //               the operation order, so it is gated by a factor over its floor: REGRESSED above
