@@ -3,11 +3,16 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <ostream>
+
+#include <nlohmann/json.hpp>
 
 #include "experiments/atomic_file.hpp"
 #include "experiments/ocp_command.hpp"
+#include "experiments/paper_values.hpp"
 #include "experiments/plot.hpp"
 
 namespace lgvi::experiments {
@@ -24,6 +29,34 @@ std::string figure_title(const std::string& system, int number) {
   if (system == "pendulum") return n + "3D pendulum, indirect discrete optimal control (section 3.2)";
   if (system == "cart-pendulum") return n + "3D pendulum on a cart, direct discrete optimal control (section 4.1)";
   return n + "two rigid bodies connected by a ball joint, direct discrete optimal control (section 4.2)";
+}
+
+std::string number_text(double x, int digits) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+/// Second title line: the run's cost and terminal violation beside the paper's
+/// (validation/paper_values.toml), read from the ocp summary JSON (an object, or an array of
+/// one). Without a readable summary, the paper's values alone.
+std::string figure_values(const std::string& system, const fs::path& summary_file) {
+  const PaperExample& paper = paper_values().example(system);
+  std::string run_cost = "-";
+  std::string run_violation = "-";
+  std::ifstream in(summary_file);
+  if (in) {
+    const nlohmann::json parsed = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    const nlohmann::json& j = parsed.is_array() && !parsed.empty() ? parsed.front() : parsed;
+    if (j.is_object()) {
+      if (j.contains("cost") && j["cost"].is_number()) run_cost = number_text(j["cost"].get<double>(), 6);
+      if (j.contains("violation") && j["violation"].is_number()) {
+        run_violation = number_text(j["violation"].get<double>(), 3);
+      }
+    }
+  }
+  return "cost " + run_cost + " (paper " + number_text(paper.cost, 6) + "), terminal violation " + run_violation +
+         " (paper " + number_text(paper.terminal_violation, 3) + ")";
 }
 
 std::string script_name(const std::string& system) {
@@ -90,7 +123,9 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
       if (code == 1) return 1;
       if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
     }
-    std::vector<std::string> args = {figure_title(system, number),
+    const std::string title =
+        figure_title(system, number) + "\n" + figure_values(system, ocp_output_file(data_dir, system, "summary.json"));
+    std::vector<std::string> args = {title,
                                      require_file(ocp_output_file(data_dir, system, "trajectory.csv")).string(),
                                      require_file(ocp_output_file(data_dir, system, "history.csv")).string()};
     if (is_direct_system(system)) {

@@ -11,7 +11,7 @@
 // by the residual) is the sum of the magnitudes of the terms of G, the round-off floor of its
 // evaluation. Fixed-size types only: no heap.
 //
-// Cost (issue 12): DG is formed only when a Newton step is taken (the residual and the Jacobian
+// Cost: DG is formed only when a Newton step is taken (the residual and the Jacobian
 // are separate callables), and DG xi = -G is solved in closed form: by the adjugate for N = 1,
 // by block elimination with adjugate 3x3 inverses for N = 2 (pivoted LU when a block is nearly
 // singular). The Newton steps change by round-off only; the converged A is the same to round-off.

@@ -21,7 +21,7 @@
 // A solution exists only for |h p| <= max_F |vee(F J_d - J_d F^T)| <= sqrt(2) ||J_d||_F; beyond
 // that bound the solver reports OutsideDomain without iterating.
 //
-// Cost (issue 12): the primary chart's Newton iteration is inline here and the steps that call it
+// Cost: the primary chart's Newton iteration is inline here and the steps that call it
 // are flattened (LGVI_FLATTEN), so an LGVI step compiles into one function. The Newton matrix is
 // written column by column from cross products (no generic 3x3 product) and formed only when a
 // Newton step is taken (not at the converged evaluation); its 3x3 system is solved in closed form

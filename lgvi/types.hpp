@@ -7,7 +7,7 @@
 /// On a step function: inline every call inside it (recursively), so that a step with its
 /// rotation-update Newton iteration and all the Eigen expressions compiles into one function.
 /// GCC's inliner otherwise leaves the solver and many small Eigen kernels as calls (measured:
-/// ~40% of a free-body step in call overhead and spills; issue 12).
+/// ~40% of a free-body step in call overhead and spills).
 #if defined(__GNUC__) || defined(__clang__)
 #define LGVI_FLATTEN __attribute__((flatten))
 #else

@@ -1,5 +1,5 @@
 // THE PRE-OPTIMIZATION REFERENCE of the rotation update and of the LGVI steps: verbatim copies,
-// as they were before the closed-form fast path of issue 12, of
+// as they were before the closed-form fast path, of
 //   lgvi/rotation_update.cpp   Newton with a generic Newton matrix and PartialPivLU solves;
 //   lgvi/lgvi.hpp              AttitudeLgvi::step and DumbbellLgvi::step;
 //   lgvi/group_newton.hpp      solve_on_rotations and rotation_update_jacobian;

@@ -1,4 +1,4 @@
-// The fast rotation update and LGVI steps (issue 12: closed-form solves, lazily formed Newton
+// The fast rotation update and LGVI steps (closed-form solves, lazily formed Newton
 // matrices, inline hot path) against the pre-optimization reference kept verbatim in
 // reference_rotation_update.hpp: the same results to round-off.
 //
