@@ -347,9 +347,10 @@ TEST(RotationUpdateReachable, PrincipalAxisComponentIsAtMostJi) {
   }
 }
 
-// Between J_i and the domain bound there is no solution: NotConverged after both charts, F left
-// unchanged, and the summary is finite (no NaN anywhere).
-TEST(RotationUpdateReachable, NoSolutionInsideBoundEndsNotConverged) {
+// Between J_i and the domain bound there is no solution: after both charts failed, the solver
+// names the cause (OutsideDomain with axis_ratio = |(h p)_i| / J_i > 1, not "not converged"),
+// F is left unchanged, and the summary is finite (no NaN anywhere).
+TEST(RotationUpdateReachable, NoSolutionInsideBoundIsNamedOutsideTheDomain) {
   const Inertia I = paper_inertia();
   const RotationUpdateSolver solver(I);
   for (int i = 0; i < 3; ++i) {
@@ -360,7 +361,9 @@ TEST(RotationUpdateReachable, NoSolutionInsideBoundEndsNotConverged) {
       ASSERT_LE(hp.norm(), solver.domain_bound());
       Mat3 F = kSentinel;
       const RotationUpdateSummary r = solver.solve(hp, F);
-      EXPECT_EQ(r.status, RotationUpdateStatus::NotConverged) << r.brief();
+      EXPECT_EQ(r.status, RotationUpdateStatus::OutsideDomain) << r.brief();
+      // paper_inertia is diagonal: the eigendecomposition is exact to a few ulps of J_i.
+      EXPECT_NEAR(r.axis_ratio, alpha / Ji, 1e-14 * alpha / Ji);
       EXPECT_EQ(F, kSentinel);
       EXPECT_TRUE(r.used_fallback);
       EXPECT_GT(r.iterations, 0);
@@ -368,7 +371,7 @@ TEST(RotationUpdateReachable, NoSolutionInsideBoundEndsNotConverged) {
       EXPECT_TRUE(std::isfinite(r.residual)) << r.brief();
       EXPECT_GT(r.residual, 0.0) << r.brief();
       EXPECT_TRUE(std::isfinite(r.rhs_norm));
-      EXPECT_NE(r.brief().find("not converged"), std::string::npos) << r.brief();
+      EXPECT_NE(r.brief().find("no rotation solves the update"), std::string::npos) << r.brief();
       EXPECT_EQ(r.brief().find("nan"), std::string::npos) << r.brief();
     }
   }
