@@ -249,7 +249,11 @@ void check_structure(std::string_view text, const Reader& r) {
       bool closed = false;
       for (; j < n; ++j) {
         if (basic && text[j] == '\\') {
-          ++j;  // the escaped character
+          ++j;  // the escaped character (a line-ending backslash escapes the newline)
+          if (j < n && text[j] == '\n') {
+            ++line;
+            line_start = j + 1;
+          }
         } else if (text[j] == '\n') {
           if (!multi) break;  // unterminated: toml++ reports it
           ++line;

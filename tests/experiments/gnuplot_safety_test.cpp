@@ -71,8 +71,8 @@ TEST(GnuplotSafety, HostileNamesRunNothing) {
       ctx.gnuplot = default_gnuplot();
       ctx.plots_dir = default_plots_dir();
       ctx.out_dir = out_dir;
-      const fs::path png = plot_xy(ctx, "xy.png", "`touch MARKER`", "x", "y",
-                                   {XyCurve{"`touch MARKER`'\"<x", {{1.0, 2.0}, {2.0, 3.0}}}});
+      const fs::path png = suites::plot_xy(ctx, "xy.png", "`touch MARKER`", "x", "y",
+                                   {suites::XyCurve{"`touch MARKER`'\"<x", {{1.0, 2.0}, {2.0, 3.0}}}});
       EXPECT_TRUE(is_complete_png(png)) << out_dir;
     }
   });
