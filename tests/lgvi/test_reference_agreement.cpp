@@ -143,7 +143,9 @@ TEST(FastRotationUpdate, FailuresMatchTheReference) {
         EXPECT_EQ(a.iterations, b.iterations) << a.brief() << " vs " << b.brief();
         EXPECT_EQ(a.used_fallback, b.used_fallback);
         EXPECT_EQ(a.parametrization, b.parametrization);
-        if (!diagnosed) EXPECT_EQ(a.brief().substr(0, 20), b.brief().substr(0, 20));
+        if (!diagnosed) {
+          EXPECT_EQ(a.brief().substr(0, 20), b.brief().substr(0, 20));
+        }
         if (!a.converged()) {
           EXPECT_EQ(F_fast, Mat3::Constant(42.0));
         }
