@@ -472,7 +472,8 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   const std::string file_name = file.string();
   const Reader r(file_name);
   if (toml_text.size() > kMaxSceneBytes) {
-    r.fail("", "is larger than 1 MiB (" + std::to_string(toml_text.size()) + " bytes); scene files take a few kB");
+    r.fail("", "is larger than 1 MiB (more than " + std::to_string(kMaxSceneBytes) +
+                   " bytes); scene files take a few kB");
   }
   check_structure(toml_text, r);
   toml::table doc;
