@@ -18,6 +18,8 @@ packages=(
   nlohmann-json3-dev     # reading JSON summaries back (validate, suite --check-against)
   gnuplot-nox            # plots (pngcairo)
   fonts-dejavu-core      # a font for the PNG plots (not pulled in without recommends)
+  clang                  # tests/sanitize.sh: the ASan+UBSan build and the libFuzzer target
+  libclang-rt-14-dev     # clang's sanitizer and libFuzzer runtimes (only recommended by clang)
 )
 
 missing=()

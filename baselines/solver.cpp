@@ -211,8 +211,10 @@ bool Run::stop_on_rhs_failure() {
 }
 
 bool Run::check_finite(double t, const double* y) {
-  if (std::all_of(y, y + n, [](double v) { return std::isfinite(v); })) return true;
-  stop_failed(t, "non-finite state");
+  const double* bad = std::find_if(y, y + n, [](double v) { return !std::isfinite(v); });
+  if (bad == y + n) return true;
+  stop_failed(t, "non-finite state: component " + std::to_string(bad - y) + " of the " + std::to_string(n) +
+                     " of the " + ode.model_name() + " state is " + (std::isnan(*bad) ? "NaN" : "infinite"));
   return false;
 }
 

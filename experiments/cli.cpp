@@ -86,8 +86,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     app.set_version_flag("--version", std::string("lgvi-testbed ") + git_describe());
     app.footer(
         "Exit status: 0 success; 1 bad input (scene file or option; one 'error:' line on stderr);\n"
-        "2 a run stopped early (rotation update failed, a baseline solver failed or hit gimbal lock;\n"
-        "  the CSV of the completed steps is written), or a suite case did not end as expected;\n"
+        "2 a run stopped early (rotation update failed, a non-finite state, a baseline solver failed or hit\n"
+        "  gimbal lock; the CSV of the completed steps is written), or a suite case did not end as expected;\n"
         "3 results could not be written (file system, gnuplot);\n"
         "4 validate or suite --check-against: a metric regressed against its accepted value.");
     std::string scenes_dir = default_scenes_dir().string();

@@ -124,12 +124,13 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
       if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
     }
     const std::string title =
-        figure_title(system, number) + "\n" + figure_values(system, ocp_output_file(data_dir, system, "summary.json"));
+        figure_title(system, number) + "
+" + figure_values(system, ocp_output_file(data_dir, system, "summary.json"));
     std::vector<std::string> args = {title,
-                                     require_file(ocp_output_file(data_dir, system, "trajectory.csv")).string(),
-                                     require_file(ocp_output_file(data_dir, system, "history.csv")).string()};
+                                     gnuplot_path(require_file(ocp_output_file(data_dir, system, "trajectory.csv"))),
+                                     gnuplot_path(require_file(ocp_output_file(data_dir, system, "history.csv")))};
     if (is_direct_system(system)) {
-      args.push_back(require_file(ocp_output_file(data_dir, system, "knots.csv")).string());
+      args.push_back(gnuplot_path(require_file(ocp_output_file(data_dir, system, "knots.csv"))));
     }
     std::string png_name = "fig";
     png_name.append(std::to_string(number)).append("-").append(system).append(".png");

@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <algorithm>
 #include <fstream>
 
 #include "experiments/atomic_file.hpp"
@@ -37,12 +38,54 @@ std::string first_line(const fs::path& file) {
 
 }  // namespace
 
+std::string gnuplot_path(const fs::path& path) {
+  const std::string p = path.string();
+  if (path.is_absolute()) return p;
+  return "./" + p;
+}
+
+std::string gnuplot_literal(const std::string& text) {
+  std::string q = "'";
+  for (const char c : text) {
+    if (c == '\'') {
+      q += "''";
+    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      q += ' ';
+    } else {
+      q += c;
+    }
+  }
+  return q + "'";
+}
+
+std::string gnuplot_path_literal(const fs::path& path) {
+  const std::string p = gnuplot_path(path);
+  for (const char c : p) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      throw OutputError(path.string() + ": a path with a control character cannot be handed to gnuplot");
+    }
+  }
+  return gnuplot_literal(p);
+}
+
+bool is_complete_png(const fs::path& file) {
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  // The last chunk: length 0, type IEND, CRC ae 42 60 82.
+  static constexpr unsigned char kEnd[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
+  std::ifstream in(file, std::ios::binary);
+  unsigned char head[8], tail[12];
+  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return false;
+  if (!in.seekg(-static_cast<std::streamoff>(sizeof tail), std::ios::end)) return false;
+  if (!in.read(reinterpret_cast<char*>(tail), sizeof tail)) return false;
+  return std::equal(head, head + 8, kSignature) && std::equal(tail, tail + 12, kEnd);
+}
+
 void render_plot(const std::string& gnuplot, const fs::path& script, const fs::path& png,
                  const std::string& title, const std::string& xlabel, const std::string& ylabel,
                  const std::vector<Curve>& curves) {
   std::vector<std::string> args = {title, xlabel, ylabel};
   for (const Curve& c : curves) {
-    args.push_back(c.csv.string());
+    args.push_back(gnuplot_path(c.csv));
     args.push_back(c.label);
   }
   run_gnuplot_script(gnuplot, script, png, args);
@@ -54,7 +97,7 @@ void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, cons
   if (!fs::is_regular_file(script, ec)) throw OutputError(script.string() + ": gnuplot script not found");
   TempPath out(png);
   TempPath log(png.string() + ".log");
-  std::vector<std::string> args = {gnuplot, "-c", script.string(), out.path().string()};
+  std::vector<std::string> args = {gnuplot, "-c", gnuplot_path(script), gnuplot_path(out.path())};
   args.insert(args.end(), script_args.begin(), script_args.end());
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -76,8 +119,13 @@ void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, cons
     if (errno != EINTR) throw OutputError(png.string() + ": waiting for gnuplot: " + std::strerror(errno));
   }
   const bool exited_ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
-  if (!exited_ok || fs::file_size(out.path(), ec) == 0 || ec) {
+  if (!exited_ok) {
     throw OutputError(png.string() + ": gnuplot " + script.filename().string() + " failed: " + first_line(log.path()));
+  }
+  if (!is_complete_png(out.path())) {
+    throw OutputError(png.string() + ": gnuplot " + script.filename().string() +
+                      " exited 0 but wrote an incomplete PNG (" + std::to_string(fs::file_size(out.path(), ec)) +
+                      " bytes, no IEND chunk: disk full?)");
   }
   out.commit();
 }

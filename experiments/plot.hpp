@@ -13,6 +13,25 @@ std::filesystem::path default_plots_dir();
 /// The gnuplot executable found at configure time.
 std::string default_gnuplot();
 
+/// `path` as gnuplot must be given it (file names only, never inside a command): gnuplot runs a
+/// data file, output or loaded file whose name starts with '<' or '|' as a shell command and
+/// reads "-", "+", "++", "$name" and "" as special files; an absolute path, or a relative one
+/// prefixed with "./", is always a plain file.
+std::string gnuplot_path(const std::filesystem::path& path);
+
+/// `text` as a gnuplot single-quoted string literal, for the files the scripts `load`: no escape
+/// sequences and no backquote (shell) substitution happen inside single quotes; ' is doubled.
+/// Control characters (newline, tab, ...) cannot appear inside one: they become spaces.
+std::string gnuplot_literal(const std::string& text);
+
+/// gnuplot_literal(gnuplot_path(path)); throws OutputError for a path with a control character
+/// (it could not be represented: a changed name would read another file).
+std::string gnuplot_path_literal(const std::filesystem::path& path);
+
+/// True if `file` is a whole PNG: the signature first and the IEND chunk last (a full disk lets
+/// gnuplot exit 0 with a truncated file).
+bool is_complete_png(const std::filesystem::path& file);
+
 /// One curve: a CSV written by lgvi-testbed and its legend entry.
 struct Curve {
   std::filesystem::path csv;
@@ -20,14 +39,16 @@ struct Curve {
 };
 
 /// Runs `gnuplot -c script OUT title xlabel ylabel csv1 label1 ...` with OUT a temporary next to
-/// `png`, renamed onto `png` when gnuplot succeeded and wrote a non-empty file. gnuplot's stdout
+/// `png`, renamed onto `png` when gnuplot exited 0 and wrote a complete PNG (is_complete_png).
+/// Paths are handed over as gnuplot_path(). gnuplot's stdout
 /// is discarded; its stderr is kept for the error message. Throws OutputError (first line of
 /// gnuplot's stderr) on failure, leaving no file.
 void render_plot(const std::string& gnuplot, const std::filesystem::path& script,
                  const std::filesystem::path& png, const std::string& title, const std::string& xlabel,
                  const std::string& ylabel, const std::vector<Curve>& curves);
 
-/// Runs `gnuplot -c script OUT args...` the same way (OUT a temporary renamed onto `png`).
+/// Runs `gnuplot -c script OUT args...` the same way (OUT a temporary renamed onto `png`). Paths
+/// among `args` must come from gnuplot_path() (the scripts read them as file names).
 /// gnuplot -c passes at most 9 arguments: scripts with many curves take a curve-list file.
 /// Throws OutputError.
 void run_gnuplot_script(const std::string& gnuplot, const std::filesystem::path& script,

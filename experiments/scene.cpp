@@ -125,6 +125,10 @@ class Reader {
       fail(field, std::string("must be a number (got ") + describe(n) + ")");
     }
     if (!std::isfinite(v)) fail(field, "must be finite (got " + format_number(v) + ")");
+    if (v != 0.0 && !(std::abs(v) >= kMinSceneMagnitude && std::abs(v) <= kMaxSceneMagnitude)) {
+      fail(field, "must be 0 or of magnitude between 1e-100 and 1e100 (got " + format_number(v) +
+                      "; products of larger values overflow)");
+    }
     return v;
   }
 
@@ -214,6 +218,86 @@ class Reader {
   std::string file_;
 };
 
+/// Rejects text that would drive toml++'s recursive descent too deep, before it parses: the
+/// nesting at any point is the number of open '[' / '{' plus the dots of the dotted keys being
+/// opened (outside strings and comments), accumulated over the enclosing levels. A float's dot
+/// counts too (harmless: one per value). Strings are skipped with TOML's rules (basic with
+/// escapes, literal, multi-line with up to two extra closing quotes); an unterminated one ends
+/// the scan (toml++ then reports it).
+void check_structure(std::string_view text, const Reader& r) {
+  int line = 1;
+  std::size_t line_start = 0;
+  std::vector<int> enclosing;  // per open bracket: the nesting outside it, bracket included
+  int base = 0;                // nesting of the enclosing levels
+  int dots = 0;                // dots since the last separator at this level
+  const auto fail_at = [&](std::size_t i, const std::string& reason) {
+    r.fail("line " + std::to_string(line) + ", column " + std::to_string(i - line_start + 1), reason);
+  };
+  const std::size_t n = text.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      line_start = i + 1;
+      dots = 0;
+    } else if (c == '#') {
+      while (i + 1 < n && text[i + 1] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {
+      const bool basic = c == '"';
+      const bool multi = i + 2 < n && text[i + 1] == c && text[i + 2] == c;
+      std::size_t j = i + (multi ? 3 : 1);
+      bool closed = false;
+      for (; j < n; ++j) {
+        if (basic && text[j] == '\\') {
+          ++j;  // the escaped character (a line-ending backslash escapes the newline)
+          if (j < n && text[j] == '\n') {
+            ++line;
+            line_start = j + 1;
+          }
+        } else if (text[j] == '\n') {
+          if (!multi) break;  // unterminated: toml++ reports it
+          ++line;
+          line_start = j + 1;
+        } else if (text[j] == c) {
+          if (!multi) {
+            closed = true;
+            break;
+          }
+          if (j + 2 < n && text[j + 1] == c && text[j + 2] == c) {
+            j += 2;
+            // Up to two more quotes belong to the content ("""a""""" is the string a"").
+            for (int extra = 0; extra < 2 && j + 1 < n && text[j + 1] == c; ++extra) ++j;
+            closed = true;
+            break;
+          }
+        }
+      }
+      if (!closed) return;
+      i = j;
+    } else if (c == '[' || c == '{') {
+      enclosing.push_back(base);
+      base += dots + 1;
+      dots = 0;
+      if (base > kMaxSceneNesting) {
+        fail_at(i, "nested more than " + std::to_string(kMaxSceneNesting) + " levels deep (scene files need 4)");
+      }
+    } else if (c == ']' || c == '}') {
+      if (!enclosing.empty()) {
+        base = enclosing.back();
+        enclosing.pop_back();
+      }
+      dots = 0;
+    } else if (c == ',') {
+      dots = 0;
+    } else if (c == '.') {
+      if (base + ++dots > kMaxSceneNesting) {
+        fail_at(i, "a dotted key nested more than " + std::to_string(kMaxSceneNesting) +
+                       " levels deep (scene files need 4)");
+      }
+    }
+  }
+}
+
 constexpr std::array<std::string_view, 5> kSystems = {"free-body", "pendulum", "dumbbell", "cart-pendulum",
                                                       "connected-bodies"};
 
@@ -232,13 +316,20 @@ std::string initial_field(const std::string& field) {
   return "initial." + field;
 }
 
+constexpr const char* kOverflowHint =
+    " is not finite: the parameters and initial values overflow together (scene.hpp: admissible input)";
+
+/// The initial state as the integrator builds it (validation of R, momenta, the cached forces
+/// and moments), every entry finite, and its energy finite.
 template <class Integrator, class... Args>
-void validate_initial_state(const Reader& reader, const Integrator& lgvi, const Args&... args) {
+void validate_initial_state(const Reader& reader, const Integrator& lgvi, double energy, const Args&... args) {
   try {
-    (void)lgvi.make_state(args...);
+    const auto state = lgvi.make_state(args...);
+    if (const char* part = non_finite_part(state)) reader.fail("initial", std::string("the initial ") + part + kOverflowHint);
   } catch (const InvalidInput& e) {
     reader.fail(initial_field(e.field()), reason_of(e));
   }
+  if (!std::isfinite(energy)) reader.fail("initial", std::string("the initial energy") + kOverflowHint);
 }
 
 Model read_model(const Reader& r, const std::string& system, const toml::table& parameters,
@@ -253,7 +344,8 @@ Model read_model(const Reader& r, const std::string& system, const toml::table& 
     const Mat3 J = r.required(parameters, "inertia", "parameters", &Reader::inertia);
     FreeBodyModel m{r.physics("parameters.", [&] { return FreeRigidBody(J); }), attitude_initial(), {}};
     if (control != nullptr) m.control = r.sinusoid(*control, "control");
-    validate_initial_state(r, AttitudeLgvi<FreeRigidBody>(m.system), m.initial.R, m.initial.Omega);
+    validate_initial_state(r, AttitudeLgvi<FreeRigidBody>(m.system), m.system.energy(m.initial.R, m.initial.Omega),
+                           m.initial.R, m.initial.Omega);
     return m;
   }
   if (system == "pendulum") {
@@ -264,7 +356,8 @@ Model read_model(const Reader& r, const std::string& system, const toml::table& 
     PendulumModel m{r.physics("parameters.", [&] { return Pendulum3D(mass, J, rho, g); }),
                     attitude_initial(), {}};
     if (control != nullptr) m.control = r.sinusoid(*control, "control");
-    validate_initial_state(r, AttitudeLgvi<Pendulum3D>(m.system), m.initial.R, m.initial.Omega);
+    validate_initial_state(r, AttitudeLgvi<Pendulum3D>(m.system), m.system.energy(m.initial.R, m.initial.Omega),
+                           m.initial.R, m.initial.Omega);
     return m;
   }
   if (system == "cart-pendulum") {
@@ -280,7 +373,8 @@ Model read_model(const Reader& r, const std::string& system, const toml::table& 
     init.q_dot = r.required(initial, "q_dot", "initial", &Reader::vec2);
     CartPendulumModel m{r.physics("parameters.", [&] { return CartPendulum(cart_mass, mass, J, d, g); }), init, {}};
     if (control != nullptr) m.control = r.sinusoid2(*control, "control");
-    validate_initial_state(r, CartPendulumLgvi(m.system), init.R, init.q, init.Omega, init.q_dot);
+    validate_initial_state(r, CartPendulumLgvi(m.system), m.system.energy(init.R, init.Omega, init.q_dot), init.R,
+                           init.q, init.Omega, init.q_dot);
     return m;
   }
   if (system == "connected-bodies") {
@@ -298,7 +392,9 @@ Model read_model(const Reader& r, const std::string& system, const toml::table& 
     ConnectedBodiesModel m{r.physics("parameters.", [&] { return ConnectedBodies(m1, J1, d1, m2, J2, d2); }),
                            init, {}};
     if (control != nullptr) m.control = r.sinusoid(*control, "control");
-    validate_initial_state(r, ConnectedBodiesLgvi(m.system), init.R1, init.R2, init.Omega1, init.Omega2);
+    validate_initial_state(r, ConnectedBodiesLgvi(m.system),
+                           m.system.energy(init.R1, init.R2, init.Omega1, init.Omega2), init.R1, init.R2,
+                           init.Omega1, init.Omega2);
     return m;
   }
   // dumbbell
@@ -321,7 +417,8 @@ Model read_model(const Reader& r, const std::string& system, const toml::table& 
       m.moment_control = r.sinusoid(*mo, "control.moment");
     }
   }
-  validate_initial_state(r, DumbbellLgvi(m.system), init.R, init.x, init.Omega, init.v);
+  validate_initial_state(r, DumbbellLgvi(m.system), m.system.energy(init.R, init.x, init.Omega, init.v), init.R,
+                         init.x, init.Omega, init.v);
   return m;
 }
 
@@ -374,6 +471,11 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every) {
 Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneOverrides& overrides) {
   const std::string file_name = file.string();
   const Reader r(file_name);
+  if (toml_text.size() > kMaxSceneBytes) {
+    r.fail("", "is larger than 1 MiB (more than " + std::to_string(kMaxSceneBytes) +
+                   " bytes); scene files take a few kB");
+  }
+  check_structure(toml_text, r);
   toml::table doc;
   try {
     doc = toml::parse(toml_text, std::string_view(file_name));
@@ -467,9 +569,14 @@ Scene load_scene(const fs::path& file, const SceneOverrides& overrides) {
     throw SceneError(file.string(), "", std::string("cannot read the scene file: ") +
                                             (fs::is_directory(file, ec) ? "is a directory" : std::strerror(err)));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scene(text.str(), file, overrides);
+  // At most one byte past the limit: /dev/zero or a huge file is refused, not read whole.
+  std::string text(kMaxSceneBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) {
+    throw SceneError(file.string(), "", "cannot read the scene file: " + std::string(std::strerror(errno)));
+  }
+  return parse_scene(text, file, overrides);
 }
 
 fs::path default_scenes_dir() { return fs::path(LGVI_SOURCE_DIR) / "experiments" / "scenes"; }

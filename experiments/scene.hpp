@@ -19,6 +19,18 @@
 //
 // The horizon must be a whole number of steps: steps = round(t_final / h) and
 // |steps h - t_final| <= 1e-9 t_final. The state is sampled at t_k = k h, k = 0..steps.
+//
+// Admissible input (checked before and after parsing; everything else is a SceneError):
+//  - at most kMaxSceneBytes (1 MiB) of text, and at most kMaxSceneNesting (32) levels of
+//    nesting, counting the open tables/arrays/inline tables and the parts of dotted keys at any
+//    point (the shipped scenes need 4). Checked by a scan of the text before toml++ sees it: its
+//    recursive descent overflows the stack on a dotted key of 100,000 parts.
+//  - every number 0 or of magnitude in [1e-100, 1e100] (kMinSceneMagnitude,
+//    kMaxSceneMagnitude): products and quotients of three such values stay finite, so the
+//    energies, momenta, forces and moments formed from them cannot overflow.
+//  - the initial state as the integrator holds it (momenta, cached forces and moments) and its
+//    energy finite: values in range can still overflow together (mu m / |x|^2 with |x| = 1e-100).
+//    The field named is "initial" with the quantity in the reason.
 #pragma once
 
 #include <cstddef>
@@ -39,6 +51,11 @@
 #include "lgvi/types.hpp"
 
 namespace lgvi::experiments {
+
+inline constexpr std::size_t kMaxSceneBytes = std::size_t{1} << 20;
+inline constexpr int kMaxSceneNesting = 32;
+inline constexpr double kMaxSceneMagnitude = 1e100;
+inline constexpr double kMinSceneMagnitude = 1e-100;
 
 /// Bad scene input. `field` is the dotted TOML path ("parameters.inertia", "integration.h"),
 /// with " (--h)" appended when the value came from a command-line override, or a position
@@ -171,7 +188,8 @@ struct SceneOverrides {
   std::optional<std::int64_t> output_every;
 };
 
-/// Reads and validates a scene file. Throws SceneError (never anything else for bad input).
+/// Reads and validates a scene file (at most kMaxSceneBytes are read: a device or a huge file is
+/// refused, not loaded). Throws SceneError (never anything else for bad input).
 Scene load_scene(const std::filesystem::path& file, const SceneOverrides& overrides = {});
 
 /// Same from TOML text; `file` names the source in messages and gives the scene name.

@@ -21,7 +21,8 @@ enum class IntegrationStatus {
   RotationUpdateFailed,
   ObserverStopped,
   SolverFailed,
-  CoordinateSingularity
+  CoordinateSingularity,
+  NonFiniteState  ///< a step produced a non-finite state (overflow); failure_detail names the part
 };
 const char* to_string(IntegrationStatus s);
 
@@ -35,11 +36,13 @@ struct Stats {
   std::size_t fallbacks = 0;              ///< steps that needed the fallback parametrization
   double max_rotation_residual = 0.0;     ///< worst relative residual of the rotation update
   double wall_seconds = 0.0;
-  // Failure location (status == RotationUpdateFailed): the step k -> k+1 that failed.
+  // Failure location (status == RotationUpdateFailed, NonFiniteState): the step k -> k+1 that
+  // failed, from t_k = failed_time.
   // Baselines (SolverFailed, CoordinateSingularity): failed_time is the time reached (the root
   // of the singular set's event function), failed_step the solver steps completed.
   std::size_t failed_step = 0;
   double failed_time = 0.0;
+  double step_size = 0.0;  ///< the LGVI's h (for the admissible step of a failed rotation update)
   RotationUpdateSummary failure;
   // Continuous-time baselines; zero for the LGVI.
   std::size_t rhs_evaluations = 0;       ///< every right-hand-side call (difference-quotient Jacobians too)
@@ -47,7 +50,7 @@ struct Stats {
   std::size_t jacobian_evaluations = 0;  ///< Jacobian evaluations requested by the solver
   std::size_t nonlinear_iterations = 0;  ///< implicit solvers' Newton iterations, where reported (CVODE)
   std::size_t rejected_steps = 0;        ///< error-test and convergence failures, where reported
-  std::string failure_detail;            ///< SolverFailed / CoordinateSingularity: what and why, one line
+  std::string failure_detail;            ///< SolverFailed / CoordinateSingularity / NonFiniteState: what and why, one line
 
   bool ok() const { return status == IntegrationStatus::Completed; }
   /// One line, e.g. "completed 1000 steps, 3012 Newton iterations (max 4), 0.01 s" or
@@ -59,13 +62,16 @@ struct Stats {
 /// u(t) sampled at the grid t_k = t0 + k h (each sample evaluated once). The observer is called
 /// as observer(k, t_k, state, summary) for k = 0 (summary of a default, converged solve) and
 /// after every step; returning false stops the run (status ObserverStopped).
-/// Stops at the first failed rotation update, leaving `state` at the last good step.
+/// Stops at the first failed rotation update, or at the first step whose result has a
+/// non-finite entry (status NonFiniteState, failure_detail naming the part: the state's
+/// non_finite_part(), found by argument-dependent lookup), leaving `state` at the last good step.
 template <class Integrator, class ControlFn, class Observer>
 Stats integrate(const Integrator& lgvi, typename Integrator::State& state, double t0, double h,
                 std::size_t steps, ControlFn&& control, Observer&& observer) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   Stats stats;
+  stats.step_size = h;
   RotationUpdateSummary initial;
   initial.status = RotationUpdateStatus::Converged;
   if (!observer(std::size_t{0}, t0, std::as_const(state), initial)) {
@@ -76,6 +82,9 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
   typename Integrator::Control u_k = control(t0);
   for (std::size_t k = 0; k < steps && stats.ok(); ++k) {
     const double t1 = t0 + static_cast<double>(k + 1) * h;
+    // Kept to restore on a non-finite result: the step writes `state` in place (a few dozen
+    // doubles copied per step, small beside the rotation update's solve).
+    const typename Integrator::State last_good = state;
     RotationUpdateSummary s;
     typename Integrator::Control u_k1 = u_k;
     if constexpr (samples_control) {
@@ -90,6 +99,15 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
       stats.failed_step = k;
       stats.failed_time = t0 + static_cast<double>(k) * h;
       stats.failure = s;
+      break;
+    }
+    if (const char* part = non_finite_part(std::as_const(state))) [[unlikely]] {
+      state = last_good;
+      stats.status = IntegrationStatus::NonFiniteState;
+      stats.failed_step = k;
+      stats.failed_time = t0 + static_cast<double>(k) * h;
+      stats.failure_detail = std::string(part) + " is not finite after the step (overflow: the state left the "
+                                                  "range of double)";
       break;
     }
     ++stats.steps;

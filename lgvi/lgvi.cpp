@@ -41,6 +41,7 @@ const char* to_string(IntegrationStatus s) {
     case IntegrationStatus::ObserverStopped: return "stopped by observer";
     case IntegrationStatus::SolverFailed: return "solver failed";
     case IntegrationStatus::CoordinateSingularity: return "coordinate singularity";
+    case IntegrationStatus::NonFiniteState: return "non-finite state";
   }
   return "unknown";
 }
@@ -50,6 +51,15 @@ std::string Stats::brief() const {
   if (status == IntegrationStatus::RotationUpdateFailed) {
     std::snprintf(buf, sizeof buf, "rotation update failed at step %zu (t = %.17g): %s", failed_step,
                   failed_time, failure.brief().c_str());
+    if (failure.axis_ratio > 1.0 && step_size > 0.0) {
+      char more[128];
+      std::snprintf(more, sizeof more, "; largest admissible h about %.3g (h = %.6g)", step_size / failure.axis_ratio,
+                    step_size);
+      return buf + std::string(more);
+    }
+  } else if (status == IntegrationStatus::NonFiniteState) {
+    std::snprintf(buf, sizeof buf, "non-finite state at step %zu (t = %.17g): ", failed_step, failed_time);
+    return buf + failure_detail;
   } else if (status == IntegrationStatus::SolverFailed || status == IntegrationStatus::CoordinateSingularity) {
     std::snprintf(buf, sizeof buf, "%s at t = %.17g after %zu steps: ", to_string(status), failed_time,
                   failed_step);

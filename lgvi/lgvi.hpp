@@ -67,6 +67,24 @@ struct RigidBodyState {
   DumbbellSpacecraft::Forces forces;
 };
 
+/// The first part of the state with a non-finite entry ("R", "Pi", ...), or nullptr when every
+/// entry is finite. integrate() checks it after every step (a non-finite state stops the run).
+inline const char* non_finite_part(const AttitudeState& s) {
+  if (!s.R.allFinite()) return "R";
+  if (!s.Pi.allFinite()) return "Pi (body momentum)";
+  if (!s.M.allFinite()) return "M (moment of the potential)";
+  return nullptr;
+}
+inline const char* non_finite_part(const RigidBodyState& s) {
+  if (!s.R.allFinite()) return "R";
+  if (!s.x.allFinite()) return "x (position)";
+  if (!s.Pi.allFinite()) return "Pi (body momentum)";
+  if (!s.v.allFinite()) return "v (velocity)";
+  if (!s.forces.force.allFinite()) return "gravity force";
+  if (!s.forces.moment.allFinite()) return "gravity-gradient moment";
+  return nullptr;
+}
+
 /// The LGVI flow map of an attitude system. Holds the system by reference (it must outlive the
 /// integrator) and an immutable rotation-update solver; `step` allocates nothing.
 template <AttitudeSystem S>

@@ -29,6 +29,16 @@ struct CartPendulumState {
   Mat3 R_compensation = Mat3::Zero();
 };
 
+/// As non_finite_part(const AttitudeState&) (lgvi.hpp).
+inline const char* non_finite_part(const CartPendulumState& s) {
+  if (!s.R.allFinite() || !s.R_compensation.allFinite()) return "R";
+  if (!s.q.allFinite()) return "q (cart position)";
+  if (!s.Pi.allFinite()) return "Pi (pendulum momentum)";
+  if (!s.p.allFinite()) return "p (cart momentum)";
+  if (!s.M.allFinite()) return "M (moment of the potential)";
+  return nullptr;
+}
+
 /// The cart-pendulum LGVI. Derived from eq. 29 (see the .cpp for the derivation):
 ///   p^- = p_k + c0 u_k,
 ///   (M+m) dq = h p^- - m E^T R_k (F - I) d                                    (eqs. 30, 31)
@@ -71,6 +81,15 @@ struct ConnectedBodiesState {
   Mat3 R1 = Mat3::Identity(), R2 = Mat3::Identity();
   Vec3 Pi1 = Vec3::Zero(), Pi2 = Vec3::Zero();
 };
+
+/// As non_finite_part(const AttitudeState&) (lgvi.hpp).
+inline const char* non_finite_part(const ConnectedBodiesState& s) {
+  if (!s.R1.allFinite()) return "R1";
+  if (!s.R2.allFinite()) return "R2";
+  if (!s.Pi1.allFinite()) return "Pi1 (body 1 momentum)";
+  if (!s.Pi2.allFinite()) return "Pi2 (body 2 momentum)";
+  return nullptr;
+}
 
 /// The connected-bodies LGVI, from the reduced discrete Lagrangian (eq. 39 with the zero-total-
 /// momentum constraint substituted; see the .cpp):

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <limits>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 namespace lgvi {
@@ -23,6 +24,13 @@ const char* to_string(RotationUpdateStatus s) {
 
 std::string RotationUpdateSummary::brief() const {
   char buf[256];
+  if (status == RotationUpdateStatus::OutsideDomain && axis_ratio > 1.0) {
+    std::snprintf(buf, sizeof buf,
+                  "%s: no rotation solves the update: |(h p)_i| / J_i = %.6g > 1 about principal axis %d "
+                  "(h |Omega_i| too large; the step must shrink by this factor at least)",
+                  to_string(status), axis_ratio, axis + 1);
+    return buf;
+  }
   if (status == RotationUpdateStatus::OutsideDomain) {
     std::snprintf(buf, sizeof buf,
                   "%s: no rotation solves the update for |h p| = %.6g (bound sqrt(2) ||J_d||_F)",
@@ -39,7 +47,22 @@ RotationUpdateSolver::RotationUpdateSolver(const Inertia& inertia, RotationUpdat
     : inertia_(inertia),
       options_(options),
       domain_bound_(std::sqrt(2.0) * inertia.Jd.norm()),
-      J_norm_(inertia.J.norm()) {}
+      J_norm_(inertia.J.norm()) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(inertia.J);
+  const Vec3 moments = eig.eigenvalues();  // increasing
+  const Vec3 d = Vec3::Constant(0.5 * moments.sum()) - moments;  // J_d in the principal frame
+  Vec3 inverse_bound;
+  for (int i = 0; i < 3; ++i) inverse_bound(i) = 1.0 / (std::abs(d((i + 1) % 3)) + std::abs(d((i + 2) % 3)));
+  axis_map_ = inverse_bound.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+void RotationUpdateSolver::diagnose(const Vec3& hp, RotationUpdateSummary& s) const {
+  const Vec3 ratios = (axis_map_ * hp).cwiseAbs();
+  Eigen::Index axis = 0;
+  s.axis_ratio = ratios.maxCoeff(&axis);
+  s.axis = static_cast<int>(axis);
+  if (s.axis_ratio > 1.0 && !s.converged()) s.status = RotationUpdateStatus::OutsideDomain;
+}
 
 Vec3 RotationUpdateSolver::matrix_residual(const Mat3& F, const Vec3& hp) const {
   const Mat3& Jd = inertia_.Jd;

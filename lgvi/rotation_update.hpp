@@ -19,7 +19,14 @@
 // the other one is tried from its own warm start.
 //
 // A solution exists only for |h p| <= max_F |vee(F J_d - J_d F^T)| <= sqrt(2) ||J_d||_F; beyond
-// that bound the solver reports OutsideDomain without iterating.
+// that bound the solver reports OutsideDomain without iterating. A sharper necessary condition,
+// checked only after Newton failed (no cost per step): in the principal frame of J (J_d =
+// diag(d), d_i = (J_j + J_k - J_i)/2 >= 0), component i of vee(F J_d - J_d F^T) is
+// F_kj d_j - F_jk d_k, at most d_j + d_k = J_i in size since |F_jk| <= 1. So
+// |(h p)_i| <= J_i on every principal axis, i.e. h |Omega_i| <= 1 for a free body: a fast spin
+// about a symmetry axis with h |Omega| > 1 has no solution although |h p| is far inside the
+// first bound. Such a failure is reported as OutsideDomain with that ratio (axis_ratio), from
+// which the largest admissible step follows (h / axis_ratio).
 //
 // Cost: the primary chart's Newton iteration is inline here and the steps that call it
 // are flattened (LGVI_FLATTEN), so an LGVI step compiles into one function. The Newton matrix is
@@ -78,6 +85,10 @@ struct RotationUpdateSummary {
   bool polished = false;       ///< the last of `iterations` was the optional polishing step
   double residual = 0.0;       ///< |G(f)| / |h p| at return (absolute when h p = 0)
   double rhs_norm = 0.0;       ///< |h p|
+  /// Set on failure only: max_i |(h p)_i| / J_i over the principal axes (above); > 1 means no
+  /// rotation solves the update, and the step must shrink by at least this factor.
+  double axis_ratio = 0.0;
+  int axis = -1;               ///< the principal axis (0, 1, 2 by increasing J_i) of axis_ratio
 
   bool converged() const { return status == RotationUpdateStatus::Converged; }
   /// One line: "converged in 3 Newton iterations (cayley), residual 1.2e-16".
@@ -103,6 +114,10 @@ class RotationUpdateSolver {
   /// Upper bound on |h p| for which a solution can exist: sqrt(2) ||J_d||_F.
   double domain_bound() const { return domain_bound_; }
 
+  /// Fills s.axis_ratio and s.axis for the right-hand side hp (see the top of this file) and
+  /// turns a failure with axis_ratio > 1 into OutsideDomain.
+  void diagnose(const Vec3& hp, RotationUpdateSummary& s) const;
+
   const Inertia& inertia() const { return inertia_; }
   const RotationUpdateOptions& options() const { return options_; }
 
@@ -117,6 +132,7 @@ class RotationUpdateSolver {
   RotationUpdateOptions options_;
   double domain_bound_;
   double J_norm_;  ///< ||J||_F, the scale of G's terms in the convergence test
+  Mat3 axis_map_;  ///< diag(1 / (|d_j| + |d_k|)) Q^T: hp -> (h p)_i / J_i in the principal frame
 };
 
 /// F = I + a hat(f) + b hat(f)^2 for the given parametrization: so3::cayley(f), or exp(hat f)
@@ -381,14 +397,19 @@ LGVI_FLATTEN inline RotationUpdateSummary RotationUpdateSolver::solve(const Vec3
                                                                    Mat3& F) const {
   namespace d = rotation_update_detail;
   const double rhs_norm = hp.norm();
-  if (!(rhs_norm <= domain_bound_)) return outside_domain(rhs_norm);  // also catches NaN
+  if (!(rhs_norm <= domain_bound_)) [[unlikely]] {  // also catches NaN
+    RotationUpdateSummary out = outside_domain(rhs_norm);
+    diagnose(hp, out);
+    return out;
+  }
   Vec3 f;
   RotationUpdateSummary s =  // writes F on convergence only
       options_.primary == Parametrization::Cayley
           ? d::newton<d::CayleyChart>(inertia_, J_norm_, options_, hp, rhs_norm, f, &F)
           : d::newton<d::ExponentialChart>(inertia_, J_norm_, options_, hp, rhs_norm, f, &F);
   s.parametrization = options_.primary;
-  if (!s.converged() && options_.fallback) return solve_with_fallback(hp, s, F);
+  if (!s.converged() && options_.fallback) s = solve_with_fallback(hp, s, F);
+  if (!s.converged()) [[unlikely]] diagnose(hp, s);
   return s;
 }
 

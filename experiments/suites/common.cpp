@@ -111,22 +111,13 @@ SystemLabels system_labels(const std::string& system) {
 
 namespace {
 
-std::string gnuplot_string(const std::string& text) {
-  std::string q = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') q += '\\';
-    q += c;
-  }
-  return q + "\"";
-}
-
 /// The curve-list file the scripts load (gnuplot -c takes at most 9 arguments): n, file[i],
 /// label[i]. A temporary next to the figure, removed with `list`.
 void write_curve_list(const TempPath& list, const std::vector<Curve>& curves) {
   std::string text = "n = " + std::to_string(curves.size()) + "\narray file[n]\narray label[n]\n";
   for (std::size_t i = 0; i < curves.size(); ++i) {
-    text += "file[" + std::to_string(i + 1) + "] = " + gnuplot_string(curves[i].csv.string()) + "\n";
-    text += "label[" + std::to_string(i + 1) + "] = " + gnuplot_string(curves[i].label) + "\n";
+    text += "file[" + std::to_string(i + 1) + "] = " + gnuplot_path_literal(curves[i].csv) + "\n";
+    text += "label[" + std::to_string(i + 1) + "] = " + gnuplot_literal(curves[i].label) + "\n";
   }
   std::FILE* f = std::fopen(list.path().c_str(), "w");
   if (f == nullptr) throw OutputError(list.path().string() + ": cannot write the figure's curve list");
@@ -155,7 +146,7 @@ fs::path plot_time_series(const RenderContext& ctx, const std::string& png_name,
   const TempPath list(png.string() + ".curves");
   write_curve_list(list, curves);
   run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "time_series.gp", png,
-                     {title, system_labels(system).time, ylabel, list.path().string(), column + (log_x ? ":logx" : "")});
+                     {title, system_labels(system).time, ylabel, gnuplot_path(list.path()), column + (log_x ? ":logx" : "")});
   return png;
 }
 
@@ -175,7 +166,7 @@ fs::path plot_iterations(const RenderContext& ctx, const std::string& png_name, 
   const TempPath list(png.string() + ".curves");
   write_curve_list(list, curves);
   run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "iteration_history.gp", png,
-                     {title, "outer (Newton) iteration", ylabel, list.path().string(), column});
+                     {title, "outer (Newton) iteration", ylabel, gnuplot_path(list.path()), column});
   return png;
 }
 
@@ -208,7 +199,7 @@ fs::path plot_xy(const RenderContext& ctx, const std::string& png_name, const st
   }
   const TempPath list(png.string() + ".curves");
   write_curve_list(list, args);
-  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "xy_loglog.gp", png, {title, xlabel, ylabel, list.path().string()});
+  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "xy_loglog.gp", png, {title, xlabel, ylabel, gnuplot_path(list.path())});
   return png;
 }
 

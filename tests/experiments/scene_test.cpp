@@ -216,6 +216,18 @@ INSTANTIATE_TEST_SUITE_P(
                  "central body"},
         BadScene{"dumbbell radius", "dumbbell", "sphere_radius = 0.05", "sphere_radius = -0.05",
                  "parameters.sphere_radius", ">= 0"},
+        // Magnitudes whose products overflow (issue 16: each ran to an inf/NaN CSV with status 0).
+        BadScene{"mu 1e308", "dumbbell", "mu = 1.0", "mu = 1e308", "parameters.mu", "magnitude"},
+        BadScene{"v 1e154", "dumbbell", "v = [0.0, 0.9834505159033722, 0.0]", "v = [1e154, 1e154, 1e154]",
+                 "initial.v[0]", "magnitude"},
+        BadScene{"q 1e308", "cart-pendulum", "q = [0.0, 0.0]", "q = [1e308, 0.0]", "initial.q[0]", "magnitude"},
+        BadScene{"inertia -1e308", "free-body", "inertia = [0.13, 0.28, 0.17]", "inertia = [-1e308, 0.28, 0.17]",
+                 "parameters.inertia[0]", "magnitude"},
+        BadScene{"inertia matrix 1e300", "free-body", "inertia = [0.13, 0.28, 0.17]",
+                 "inertia = [[1e300, 0, 0], [0, 1e300, 0], [0, 0, 1e300]]", "parameters.inertia[0][0]", "magnitude"},
+        BadScene{"Omega 1e-200", "pendulum", "Omega = [4.14, 4.14, 4.14]", "Omega = [4.14, 1e-200, 4.14]",
+                 "initial.Omega[1]", "magnitude"},
+        BadScene{"h 1e-120", "pendulum", "h = 1e-3", "h = 1e-120", "integration.h", "magnitude"},
         BadScene{"control key", "pendulum-controlled", "phase =", "phse =", "control.phse", "unknown key"},
         BadScene{"control missing", "pendulum-controlled", "frequency = [0.5, 0.9, 1.3]", "", "control.frequency",
                  "is required"}),
@@ -226,6 +238,73 @@ INSTANTIATE_TEST_SUITE_P(
       }
       return name;
     });
+
+// Structure bounds, checked before toml++ sees the text (its recursive descent overflowed the
+// stack on the first of these: SIGSEGV).
+TEST(SceneErrors, DeepNestingIsRejectedBeforeParsing) {
+  std::string dotted = "system = \"free-body\"\na";
+  for (int i = 0; i < 100000; ++i) dotted += ".a";
+  dotted += " = 1\n";
+  SceneError e = scene_error(dotted);
+  EXPECT_EQ(e.field(), "line 2, column 66") << e.what();  // the 33rd dot
+  EXPECT_NE(e.reason().find("nested more than 32"), std::string::npos) << e.what();
+
+  const std::string arrays = "x = " + std::string(100000, '[') + std::string(100000, ']') + "\n";
+  EXPECT_NE(scene_error(arrays).reason().find("nested more than 32"), std::string::npos);
+  std::string inline_tables = "x = ";
+  for (int i = 0; i < 50000; ++i) inline_tables += "{a.b = ";
+  EXPECT_NE(scene_error(inline_tables).reason().find("nested more than 32"), std::string::npos);
+  // Nesting accumulates across levels: 11 inline tables of 3-part keys is 11 * (2 + 1) = 33.
+  std::string mixed = "x = ";
+  for (int i = 0; i < 11; ++i) mixed += "{a.b.c = ";
+  EXPECT_NE(scene_error(mixed).reason().find("nested more than 32"), std::string::npos);
+}
+
+TEST(SceneErrors, DotsAndBracketsInStringsAndCommentsDoNotCount) {
+  const std::string dots(1000, '.');
+  const std::string brackets(1000, '[');
+  // The pendulum scene with its description line replaced.
+  const auto with_description = [](const std::string& line) {
+    std::string text = test::read_text(default_scene_file("pendulum"));
+    const std::size_t at = text.find("\ndescription = ") + 1;
+    text.replace(at, text.find('\n', at) - at, line);
+    return text;
+  };
+  const std::string text =
+      with_description("description = \"" + dots + brackets + "\\\"" + dots + "\"\n# " + dots + brackets);
+  EXPECT_EQ(parse_scene(text, "ok.toml").description, dots + brackets + "\"" + dots);
+  const std::string multi = with_description("description = '''" + dots + "\n" + brackets + "'''");
+  EXPECT_NO_THROW((void)parse_scene(multi, "ok.toml"));
+  // A multi-line string closed by five quotes: the two extra quotes are content, the scan
+  // resumes after them and still sees the deep key that follows.
+  std::string tricky = "d = \"\"\"x\"\"\"\"\"\na";
+  for (int i = 0; i < 100; ++i) tricky += ".a";
+  EXPECT_NE(scene_error(tricky + " = 1\n").reason().find("nested"), std::string::npos);
+}
+
+TEST(SceneErrors, OversizedInputIsRejected) {
+  const std::string big = "# " + std::string(kMaxSceneBytes, 'x') + "\n";
+  const SceneError e = scene_error(big);
+  EXPECT_EQ(e.field(), "");
+  EXPECT_NE(e.reason().find("larger than 1 MiB"), std::string::npos);
+  try {
+    (void)load_scene("/dev/zero");  // reads 1 MiB + 1 byte, not forever
+    FAIL();
+  } catch (const SceneError& err) {
+    EXPECT_NE(err.reason().find("larger than 1 MiB"), std::string::npos) << err.what();
+  }
+}
+
+// Each value in range, overflowing together: the gravity force mu m / |x|^2 = 1e200 / 1e-196.
+TEST(SceneErrors, ValuesInRangeOverflowingTogetherAreRejected) {
+  std::string text = edited_scene("dumbbell", "mass = 1.0\nmu = 1.0\nrho = [0.15, 0.0, 0.0]\nsphere_radius = 0.05",
+                                  "mass = 1e100\nmu = 1e100\nrho = [1e-99, 0.0, 0.0]\nsphere_radius = 1e-99");
+  const std::string x = "x = [1.0, 0.0, 0.0]";
+  text.replace(text.find(x), x.size(), "x = [1e-98, 0.0, 0.0]");
+  const SceneError e = scene_error(text);
+  EXPECT_EQ(e.field(), "initial") << e.what();
+  EXPECT_NE(e.reason().find("gravity force is not finite"), std::string::npos) << e.what();
+}
 
 TEST(SceneErrors, MalformedTomlGivesLineAndColumn) {
   const SceneError e = scene_error("system = \"pendulum\"\nmass = = 1.0\n");

@@ -134,11 +134,18 @@ TEST(FastRotationUpdate, FailuresMatchTheReference) {
         Mat3 F_fast = Mat3::Constant(42.0), F_ref = Mat3::Constant(42.0);
         const RotationUpdateSummary a = fast.solve(hp, F_fast);
         const RotationUpdateSummary b = ref.solve(hp, F_ref);
-        EXPECT_EQ(a.status, b.status) << a.brief() << " vs " << b.brief();
+        // The fast solver names a failed solve with |(h p)_i| > J_i on a principal axis
+        // OutsideDomain (RotationUpdateSolver::diagnose, after the same iterations); the
+        // reference predates that diagnosis.
+        const bool diagnosed = !b.converged() && a.axis_ratio > 1.0;
+        EXPECT_EQ(a.status, diagnosed ? RotationUpdateStatus::OutsideDomain : b.status)
+            << a.brief() << " vs " << b.brief();
         EXPECT_EQ(a.iterations, b.iterations) << a.brief() << " vs " << b.brief();
         EXPECT_EQ(a.used_fallback, b.used_fallback);
         EXPECT_EQ(a.parametrization, b.parametrization);
-        EXPECT_EQ(a.brief().substr(0, 20), b.brief().substr(0, 20));
+        if (!diagnosed) {
+          EXPECT_EQ(a.brief().substr(0, 20), b.brief().substr(0, 20));
+        }
         if (!a.converged()) {
           EXPECT_EQ(F_fast, Mat3::Constant(42.0));
         }

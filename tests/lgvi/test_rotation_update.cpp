@@ -11,6 +11,7 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -346,9 +347,10 @@ TEST(RotationUpdateReachable, PrincipalAxisComponentIsAtMostJi) {
   }
 }
 
-// Between J_i and the domain bound there is no solution: NotConverged after both charts, F left
-// unchanged, and the summary is finite (no NaN anywhere).
-TEST(RotationUpdateReachable, NoSolutionInsideBoundEndsNotConverged) {
+// Between J_i and the domain bound there is no solution: after both charts failed, the solver
+// names the cause (OutsideDomain with axis_ratio = |(h p)_i| / J_i > 1, not "not converged"),
+// F is left unchanged, and the summary is finite (no NaN anywhere).
+TEST(RotationUpdateReachable, NoSolutionInsideBoundIsNamedOutsideTheDomain) {
   const Inertia I = paper_inertia();
   const RotationUpdateSolver solver(I);
   for (int i = 0; i < 3; ++i) {
@@ -359,7 +361,9 @@ TEST(RotationUpdateReachable, NoSolutionInsideBoundEndsNotConverged) {
       ASSERT_LE(hp.norm(), solver.domain_bound());
       Mat3 F = kSentinel;
       const RotationUpdateSummary r = solver.solve(hp, F);
-      EXPECT_EQ(r.status, RotationUpdateStatus::NotConverged) << r.brief();
+      EXPECT_EQ(r.status, RotationUpdateStatus::OutsideDomain) << r.brief();
+      // paper_inertia is diagonal: the eigendecomposition is exact to a few ulps of J_i.
+      EXPECT_NEAR(r.axis_ratio, alpha / Ji, 1e-14 * alpha / Ji);
       EXPECT_EQ(F, kSentinel);
       EXPECT_TRUE(r.used_fallback);
       EXPECT_GT(r.iterations, 0);
@@ -367,7 +371,7 @@ TEST(RotationUpdateReachable, NoSolutionInsideBoundEndsNotConverged) {
       EXPECT_TRUE(std::isfinite(r.residual)) << r.brief();
       EXPECT_GT(r.residual, 0.0) << r.brief();
       EXPECT_TRUE(std::isfinite(r.rhs_norm));
-      EXPECT_NE(r.brief().find("not converged"), std::string::npos) << r.brief();
+      EXPECT_NE(r.brief().find("no rotation solves the update"), std::string::npos) << r.brief();
       EXPECT_EQ(r.brief().find("nan"), std::string::npos) << r.brief();
     }
   }
@@ -571,6 +575,38 @@ TEST(RotationUpdate, ConvergesForIllConditionedInertiaInGenericFrame) {
   }
   std::cout << "[ measured ] ill-conditioned generic-frame inertia: max Newton iterations "
             << max_iterations << "\n";
+}
+
+
+// --- A fast spin about a symmetry axis: no solution although |h p| is inside the bound -----------
+// J = diag(1, 1, 0.1) in a rotated body frame, h p = h J3 Omega3 along the symmetry axis. Along a
+// principal axis the update reaches |(h p)_i| <= J_i only (the reachable-set bound above), so
+// h Omega3 = 2 has no solution while |h p| = 0.2 is far below sqrt(2) ||J_d||_F = 1.35. The solver
+// must name that cause and the factor 2 (largest admissible step h / 2), not "not converged".
+TEST(RotationUpdate, FastSymmetricSpinIsReportedAsOutsideTheDomainWithTheAdmissibleFactor) {
+  std::mt19937_64 rng(16);
+  const Mat3 Q = so3::random_rotation(rng);
+  const Inertia I = Inertia::from(Q * Vec3(1.0, 1.0, 0.1).asDiagonal() * Q.transpose());
+  const RotationUpdateSolver solver(I);
+  const Vec3 axis = Q.col(2);  // the symmetry axis, body frame
+  for (const double h_omega : {2.0, 1.0 + 1e-6}) {
+    const Vec3 hp = 0.1 * h_omega * axis;
+    ASSERT_LT(hp.norm(), solver.domain_bound());
+    Mat3 F = kSentinel;
+    const RotationUpdateSummary r = solver.solve(hp, F);
+    EXPECT_EQ(r.status, RotationUpdateStatus::OutsideDomain) << r.brief();
+    // axis_ratio = |Q^T hp|_3 / J3 = h Omega3, to the round-off of the eigendecomposition.
+    EXPECT_NEAR(r.axis_ratio, h_omega, 1e-12 * h_omega);
+    EXPECT_EQ(r.axis, 0);  // the smallest moment, 0.1
+    EXPECT_EQ(F, kSentinel);
+    EXPECT_NE(r.brief().find("no rotation solves the update"), std::string::npos) << r.brief();
+  }
+  // Just inside: the rotation about the axis by asin(h Omega3) solves it (and Newton finds one).
+  Mat3 F;
+  const Vec3 hp = 0.1 * 0.9 * axis;
+  const RotationUpdateSummary r = solver.solve(hp, F);
+  ASSERT_TRUE(r.converged()) << r.brief();
+  EXPECT_LT(solver.matrix_residual(F, hp).norm(), 1e-14);
 }
 
 }  // namespace
