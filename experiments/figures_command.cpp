@@ -124,8 +124,7 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
       if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
     }
     const std::string title =
-        figure_title(system, number) + "
-" + figure_values(system, ocp_output_file(data_dir, system, "summary.json"));
+        figure_title(system, number) + "\n" + figure_values(system, ocp_output_file(data_dir, system, "summary.json"));
     std::vector<std::string> args = {title,
                                      gnuplot_path(require_file(ocp_output_file(data_dir, system, "trajectory.csv"))),
                                      gnuplot_path(require_file(ocp_output_file(data_dir, system, "history.csv")))};
