@@ -5,6 +5,7 @@ LGVI_TESTBED_EXE, LGVI_SOURCE_DIR for the comparison with the CLI.
 """
 import io
 import os
+import stat
 import subprocess
 import tomllib
 
@@ -146,3 +147,26 @@ def test_bad_input_raises_value_error_naming_the_argument():
         lgvi.simulate_baseline(body, np.eye(3), np.zeros(3), t_final=1.0, method="no-such-method")
     with pytest.raises(ValueError, match="form"):
         lgvi.simulate(body, np.eye(3), np.zeros(3), h=0.1, steps=1, form="sideways")
+
+
+def test_cli_streams_to_stdout_fifo_and_refuses_a_directory(tmp_path):
+    """--out - pipes into head; an existing FIFO is written in place (still a FIFO after); a
+    directory is refused (exit 3, a one-line error naming it)."""
+    exe = os.environ["LGVI_TESTBED_EXE"]
+    head = subprocess.run(f"'{exe}' simulate pendulum --out - | head -n 3", shell=True, check=True,
+                          capture_output=True, text=True)
+    assert head.stdout.splitlines() == ["# scene: pendulum", "# scene_file: experiments/scenes/pendulum.toml",
+                                        "# system: pendulum"]
+    fifo = tmp_path / "rows.fifo"
+    os.mkfifo(fifo)
+    reader = subprocess.Popen(["cat", str(fifo)], stdout=subprocess.PIPE, text=True)
+    subprocess.run([exe, "simulate", "free-body", "--t-final", "0.5", "--out", str(fifo)], check=True,
+                   capture_output=True)
+    text = reader.communicate(timeout=60)[0]
+    assert read_cli_csv(text)["t"][-1] == 0.5
+    assert "# status: completed" in text  # the closing metadata, after the rows
+
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    refused = subprocess.run([exe, "simulate", "free-body", "--out", str(tmp_path)], capture_output=True, text=True)
+    assert refused.returncode == 3
+    assert "is a directory" in refused.stderr
