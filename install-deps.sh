@@ -16,6 +16,10 @@ packages=(
   libcli11-dev           # command-line options
   libtomlplusplus-dev    # scene files (TOML)
   nlohmann-json3-dev     # reading JSON summaries back (validate, suite --check-against)
+  python3-dev            # the Python module lgvi (python/): headers to build it against
+  pybind11-dev           # the Python module's bindings
+  python3-numpy          # its arrays, and the pytest suite's
+  python3-pytest         # the Python tests (ctest python_tests)
   gnuplot-nox            # plots (pngcairo)
   fonts-dejavu-core      # a font for the PNG plots (not pulled in without recommends)
   clang                  # tests/sanitize.sh: the ASan+UBSan build and the libFuzzer target

@@ -38,6 +38,21 @@ void TempPath::commit() {
 }
 
 AtomicFile::AtomicFile(fs::path target) : temp_(std::move(target)) {
+  const fs::path& t = temp_.target();
+  if (t == "-") {
+    mode_ = Mode::StandardOutput;
+    file_ = stdout;
+    return;
+  }
+  std::error_code ec;
+  const fs::file_status status = fs::status(t, ec);  // follows symlinks (/dev/stdout)
+  if (!ec && fs::is_directory(status)) throw OutputError(t.string() + ": is a directory, not a file");
+  if (!ec && fs::exists(status) && !fs::is_regular_file(status)) {
+    mode_ = Mode::InPlace;
+    file_ = std::fopen(t.c_str(), "w");
+    if (file_ == nullptr) throw OutputError(system_error(t.string() + ": cannot open for writing", errno));
+    return;
+  }
   // "x": fail rather than clobber if the name is somehow taken.
   file_ = std::fopen(temp_.path().c_str(), "wx");
   if (file_ == nullptr) {
@@ -49,7 +64,7 @@ AtomicFile::AtomicFile(fs::path target) : temp_(std::move(target)) {
 }
 
 AtomicFile::~AtomicFile() {
-  if (file_ != nullptr) std::fclose(file_);
+  if (file_ != nullptr && mode_ != Mode::StandardOutput) std::fclose(file_);
 }
 
 void AtomicFile::write(std::string_view text) {
@@ -66,14 +81,16 @@ void AtomicFile::flush() {
 void AtomicFile::close() {
   std::FILE* f = file_;
   file_ = nullptr;
+  if (mode_ == Mode::StandardOutput) return;  // flushed; stdout stays open for the program
   if (std::fclose(f) != 0) throw OutputError(system_error(target().string() + ": write error", errno));
 }
 
 void AtomicFile::discard() {
   if (file_ != nullptr) {
-    std::fclose(file_);
+    if (mode_ != Mode::StandardOutput) std::fclose(file_);
     file_ = nullptr;
   }
+  if (mode_ != Mode::Temporary) return;  // what a stream received cannot be taken back
   std::error_code ec;
   std::filesystem::remove(temp_.path(), ec);
 }
@@ -81,7 +98,7 @@ void AtomicFile::discard() {
 void AtomicFile::commit() {
   flush();
   close();
-  temp_.commit();
+  if (mode_ == Mode::Temporary) temp_.commit();
 }
 
 }  // namespace lgvi::experiments

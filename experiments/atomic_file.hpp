@@ -2,6 +2,11 @@
 // and renamed onto the target only when complete (rename(2) is atomic within a file system).
 // If anything fails, or the owner is destroyed without commit(), the temporary is removed, so
 // no half-written (or empty) results file is ever left behind.
+//
+// Two targets are streams, written in place instead (nothing to replace; not seekable):
+// "-" is standard output, and an existing file that is not a regular file (a FIFO, a character
+// device such as /dev/stdout or /dev/null, a socket; through symlinks) is opened and written as it
+// is, never replaced by a regular file. A directory is refused (OutputError).
 #pragma once
 
 #include <cstdio>
@@ -42,13 +47,17 @@ class TempPath {
 /// A file written through a temporary and published by commit().
 class AtomicFile {
  public:
-  /// Creates the temporary (exclusively). Throws OutputError naming the target.
+  /// Creates the temporary (exclusively), or opens a stream target (above). Throws OutputError
+  /// naming the target.
   explicit AtomicFile(std::filesystem::path target);
   ~AtomicFile();
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
 
   std::FILE* stream() { return file_; }
+  /// True for the stream targets ("-", existing non-regular files): written in place, in order,
+  /// no seeking back; commit() flushes (and closes) them.
+  bool is_stream() const { return mode_ != Mode::Temporary; }
   void write(std::string_view text);
   /// Flushes and checks for write errors (throws OutputError); the file stays open.
   void flush();
@@ -61,8 +70,10 @@ class AtomicFile {
   const std::filesystem::path& target() const { return temp_.target(); }
 
  private:
+  enum class Mode { Temporary, StandardOutput, InPlace };
   void close();
   TempPath temp_;
+  Mode mode_ = Mode::Temporary;
   std::FILE* file_ = nullptr;
 };
 

@@ -53,7 +53,7 @@ std::string provenance(const std::map<std::string, Row>& rows, const char* key) 
 bool ignored(const std::string& key) {
   static const char* const names[] = {"index", "case", "group", "expected", "detail", "csv_path", "csv",
                                       "suite", "quick", "git_describe", "command_line", "reference",
-                                      "status_detail", "label"};
+                                      "status_detail", "label", "version", "units"};
   for (const char* n : names) {
     if (key == n) return true;
   }

@@ -106,7 +106,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     sim->add_option("SCENE", scene_arg,
                     "Scene name (see 'lgvi-testbed scenes') or path to a scene file (contains '/' or ends in .toml)")
         ->required();
-    sim->add_option("--out", csv_out, "CSV file to write (default: SCENE_NAME.csv in the current directory)");
+    sim->add_option("--out", csv_out,
+                    "CSV file to write (default: SCENE_NAME.csv in the current directory; - for standard output)");
     CLI::Option* h_opt = sim->add_option("--h", h, "Time step (replaces integration.h)");
     CLI::Option* t_opt = sim->add_option("--t-final", t_final, "Horizon (replaces integration.t_final)");
     CLI::Option* form_opt = sim->add_option("--form", form, "LGVI form: symmetric | printed (replaces integration.form)");
@@ -258,7 +259,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                                csv.string() + ")",
                       kExitRunFailed);
       }
-      out << summary.stats.brief() << "\n";
+      // With --out - the CSV is standard output: the one-line summary goes to standard error.
+      (csv == "-" ? err : out) << summary.stats.brief() << "\n";
       return kExitOk;
     }
 

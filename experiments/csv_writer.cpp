@@ -104,7 +104,7 @@ std::string padding_line(std::size_t size) {
 }  // namespace
 
 CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> columns)
-    : target_(std::move(target)), columns_(std::move(columns)), file_(target_) {}
+    : target_(std::move(target)), columns_(std::move(columns)), file_(target_), buffered_(file_.is_stream()) {}
 
 CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> columns, const Fields& leading,
                      std::size_t reserve)
@@ -112,10 +112,24 @@ CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> colu
       reserve_(std::max<std::size_t>(reserve, 2)) {
   const std::string header = header_line(columns_);
   file_.write(leading_);
+  if (file_.is_stream()) {  // no block to come back to: the closing lines go after the rows
+    trailer_ = true;
+    reserve_ = 0;
+    file_.write(header);
+    return;
+  }
   file_.write(padding_line(reserve_));  // replaced at commit
   file_.write(header);
   reserve_offset_ = static_cast<long>(leading_.size());
   rows_offset_ = reserve_offset_ + static_cast<long>(reserve_ + header.size());
+}
+
+void CsvWriter::emit(std::string_view text) {
+  if (buffered_) {
+    buffer_.append(text);
+  } else {
+    file_.write(text);
+  }
 }
 
 void CsvWriter::write_row(std::span<const double> values) {
@@ -127,19 +141,30 @@ void CsvWriter::write_row(std::span<const double> values) {
   char* const end = line.data() + line.size();
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (end - p < 26) {  // very wide rows: flush the partial line
-      file_.write(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
+      emit(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
       p = line.data();
     }
     if (i > 0) *p++ = ',';
     p = std::to_chars(p, end, values[i]).ptr;
   }
   *p++ = '\n';
-  file_.write(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
+  emit(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
   ++rows_;
 }
 
 void CsvWriter::commit(const Fields& closing) {
   const std::string closing_text = metadata_lines(closing);
+  if (trailer_) {
+    file_.write(closing_text);
+    file_.commit();
+    return;
+  }
+  if (buffered_) {
+    file_.write(leading_ + closing_text + header_line(columns_));
+    file_.write(buffer_);
+    file_.commit();
+    return;
+  }
   if (reserve_ > 0 && (closing_text.size() == reserve_ || closing_text.size() + 2 <= reserve_)) {
     // Into the reserved block: the rows stay where they are.
     file_.flush();

@@ -10,6 +10,11 @@
 // lines into the block and fills the rest of it with one blank comment line ('#' and spaces).
 // Closing metadata longer than the block (or a writer made without one) is written by copying
 // the rows once more into a second temporary file behind the complete metadata.
+//
+// A stream target ("-" for standard output, an existing FIFO or device: atomic_file.hpp) cannot
+// seek back: with leading metadata, the rows stream out as they come and the closing metadata
+// follows the last row as `# key: value` lines (a trailer); without, the rows are held in memory
+// and written behind the complete metadata at commit.
 #pragma once
 
 #include <cstddef>
@@ -58,6 +63,11 @@ class CsvWriter {
   long reserve_offset_ = 0;    ///< where the block starts
   long rows_offset_ = 0;       ///< where the rows start
   std::size_t rows_ = 0;
+  bool trailer_ = false;       ///< stream target with leading metadata: closing metadata after the rows
+  bool buffered_ = false;      ///< stream target without: rows held in `buffer_` until commit
+  std::string buffer_;
+
+  void emit(std::string_view text);
 };
 
 /// The metadata lines of `fields`: "# key: value\n" each, newlines in keys and values replaced by

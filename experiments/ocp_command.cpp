@@ -36,6 +36,7 @@ constexpr long long kDumbbellSteps = 1000;
 
 
 using ocp_output::join;
+using ocp_output::values;
 
 std::vector<std::string> multiplier_columns(bool translation) {
   std::vector<std::string> c;
@@ -189,7 +190,11 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
     const ocp::StateMultiplierFlow<Model> flow(system, problem, options.form, options.h, options.W, options.rotation);
     write_trajectory<Model>(trajectory, result, flow, f);
   }
-  write_json_summary(files.summary, {f});
+  // One object; the vectors as arrays of numbers (their text form stays in the CSVs' metadata).
+  write_json_object(files.summary, f,
+                    {{"inertia_diagonal", values(system.inertia.J.diagonal())},
+                     {"multiplier_guess", values(S.multiplier_guess)},
+                     {"multiplier", values(S.multiplier)}});
   return ocp_output::finish(cmd, S, files, {history, trajectory, files.summary}, out, err);
 }
 

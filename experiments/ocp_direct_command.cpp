@@ -33,6 +33,7 @@ constexpr int kConnectedBodiesStarts = 8;
 constexpr int kMaxEvaluations = 3000;  // per start; the connected bodies' starts take 400..2500
 
 using ocp_output::join;
+using ocp_output::values;
 
 template <class F>
 std::string start_field(const ocp::DirectSummary& S, F f, const char* separator = " ") {
@@ -224,7 +225,20 @@ int solve_and_write(const typename Model::System& system, const typename Model::
     }
     csv.commit(f);
   }
-  write_json_summary(files.summary, {f});
+  // One object; the vectors as arrays of numbers (their text form stays in the CSVs' metadata).
+  std::vector<double> start_costs, start_violations, start_iterations;
+  for (const ocp::DirectStart& s : S.starts) {
+    start_costs.push_back(s.cost);
+    start_violations.push_back(s.violation);
+    start_iterations.push_back(static_cast<double>(s.iterations));
+  }
+  write_json_object(files.summary, f,
+                    {{"knot_times", values(knot_times)},
+                     {"initial_knots", values(S.best_start >= 0 ? S.starts[S.best_start].initial_knots : S.initial_knots)},
+                     {"knot_values", values(S.knot_values)},
+                     {"start_costs", start_costs},
+                     {"start_violations", start_violations},
+                     {"start_iterations", start_iterations}});
   return ocp_output::finish(cmd, S, files, {history, trajectory, knots_file, files.summary}, out, err);
 }
 

@@ -45,6 +45,9 @@ inline std::string join(const Eigen::VectorXd& v) {
   return s;
 }
 
+/// v's entries as a JSON array of the summary (write_json_object).
+inline std::vector<double> values(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
 /// The output directory of one run and the three files every `ocp` run writes in it
 /// (ocp_output_file names them).
 struct Files {

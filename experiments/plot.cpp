@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "experiments/atomic_file.hpp"
+#include "experiments/data_dir.hpp"
 
 extern char** environ;
 
@@ -17,7 +18,7 @@ namespace lgvi::experiments {
 
 namespace fs = std::filesystem;
 
-fs::path default_plots_dir() { return fs::path(LGVI_SOURCE_DIR) / "experiments" / "plots"; }
+fs::path default_plots_dir() { return data_dir("plots", "experiments/plots"); }
 std::string default_gnuplot() { return LGVI_GNUPLOT; }
 
 namespace {

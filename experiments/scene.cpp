@@ -13,6 +13,7 @@
 
 #include <toml++/toml.h>
 
+#include "experiments/data_dir.hpp"
 #include "lgvi/so3.hpp"
 
 namespace lgvi::experiments {
@@ -579,7 +580,7 @@ Scene load_scene(const fs::path& file, const SceneOverrides& overrides) {
   return parse_scene(text, file, overrides);
 }
 
-fs::path default_scenes_dir() { return fs::path(LGVI_SOURCE_DIR) / "experiments" / "scenes"; }
+fs::path default_scenes_dir() { return data_dir("scenes", "experiments/scenes"); }
 
 std::vector<std::string> scene_names(const fs::path& scenes_dir) {
   std::vector<std::string> names;

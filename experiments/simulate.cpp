@@ -1,5 +1,7 @@
 #include "experiments/simulate.hpp"
 
+#include <limits>
+
 #include "experiments/csv_writer.hpp"
 
 namespace lgvi::experiments {
@@ -24,7 +26,7 @@ std::string source_relative(const std::filesystem::path& file) {
 
 Fields RunSummary::to_fields() const {
   const Diagnostics& d = diagnostics;
-  Fields f = {{"scene", scene}, {"system", system}, {"method", method}};
+  Fields f = {{"scene", scene}, {"system", system}, {"method", method}, {"version", std::string(version())}};
   f.insert(f.end(), method_settings.begin(), method_settings.end());
   const Fields rest = {
       {"h", horizon.h},
@@ -53,11 +55,18 @@ Fields RunSummary::to_fields() const {
       {"energy_error_normalization",
        std::string(d.energy_error_is_relative() ? "relative to |E0|" : "absolute (E0 = 0)")},
       {"max_abs_energy_error", d.max_abs_energy_error},
+      // The same two numbers named by what they are (max_energy_error above is relative unless
+      // E0 = 0); the relative one is null when E0 = 0.
+      {"max_energy_error_relative",
+       d.energy_error_is_relative() ? d.max_energy_error() : std::numeric_limits<double>::quiet_NaN()},
+      {"max_energy_error_absolute", d.max_abs_energy_error},
       {"max_orthogonality_error", d.max_orthogonality_error},
       {"max_determinant_error", d.max_determinant_error},
       {"momentum_map", momentum_map},
       {"momentum0_norm", d.momentum0_norm},
-      {"max_momentum_drift", d.max_momentum_error},
+      {"max_momentum_drift", d.max_momentum_error},  // absolute: |m - m0|, momentum units
+      {"max_momentum_drift_absolute", d.max_momentum_error},
+      {"units", units_of(system)},
       {"csv", csv.filename().string()},
   };
   f.insert(f.end(), rest.begin(), rest.end());
@@ -86,6 +95,11 @@ RunSummary simulate(const Scene& scene, const Method& method, const SimulateOpti
                        {"t_final", scene.horizon.t_final},
                        {"output_every", as_int(scene.horizon.output_every)},
                        {"momentum_map", s.momentum_map},
+                       {"units", units_of(s.system)},
+                       {"error_columns", std::string("energy_error = E - E0 and momentum_error = |m - m0| are "
+                                                     "absolute (the units above); orthogonality_error = "
+                                                     "|R^T R - I|_F, determinant_error = |det R - 1|")},
+                       {"version", std::string(version())},
                        {"git_describe", std::string(git_describe())},
                        {"command_line", options.command_line}};
   leading.insert(leading.end(), grid.begin(), grid.end());

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/atomic_file.hpp"
+#include "experiments/data_dir.hpp"
 #include "experiments/fields.hpp"
 #include "lgvi/inertia.hpp"
 
@@ -135,7 +136,7 @@ Verdict judge(MetricKind kind, double accepted, double now, double floor, std::o
 }
 
 fs::path default_accepted_file(bool quick) {
-  return fs::path(LGVI_SOURCE_DIR) / "validation" / (quick ? "accepted-quick.txt" : "accepted-full.txt");
+  return data_dir("validation", "validation") / (quick ? "accepted-quick.txt" : "accepted-full.txt");
 }
 
 // File format: '#' comment lines, "# accepted_at: DESCRIBE", "# form: quick|full", then one

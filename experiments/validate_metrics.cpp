@@ -506,10 +506,15 @@ void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
     nlohmann::json j;
     std::ifstream in(summary);
     if (in) j = nlohmann::json::parse(in, nullptr, false);
-    const bool read = j.is_array() && !j.empty() && j[0].is_object();
+    // One object (older summaries: an array of one object).
+    if (j.is_array() && !j.empty()) {
+      nlohmann::json first = j[0];
+      j = std::move(first);
+    }
+    const bool read = j.is_object();
     const auto number = [&](const char* key) {
-      if (!read || !j[0].contains(key) || !j[0][key].is_number()) return std::numeric_limits<double>::quiet_NaN();
-      return j[0][key].get<double>();
+      if (!read || !j.contains(key) || !j[key].is_number()) return std::numeric_limits<double>::quiet_NaN();
+      return j[key].get<double>();
     };
     const PaperExample& example = paper.example(system);
     const bool direct = is_direct_system(system);
@@ -517,7 +522,7 @@ void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
                                                                       std::to_string(cmd.first_start)
                                                                 : std::string()) +
                          ": exit " + std::to_string(code) + "; " +
-                         (read ? j[0].value("status_detail", j[0].value("status", std::string())) : err.str());
+                         (read ? j.value("status_detail", j.value("status", std::string())) : err.str());
     if (detail.size() > 200) detail = detail.substr(0, 200) + "...";
     const auto add = [&](const std::string& what, MetricKind kind, double value, std::optional<double> p,
                          double floor = 0.0) {

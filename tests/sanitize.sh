@@ -22,7 +22,8 @@ stamp() { echo "sanitize.sh: $1 ($(( $(date +%s) - start )) s)"; }
 cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_CXX_FLAGS="-O1 -g -fno-omit-frame-pointer $sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS="$sanitize" \
-  -DLGVI_BUILD_BENCHMARKS=OFF -DLGVI_BUILD_FUZZERS=ON >/dev/null
+  -DLGVI_BUILD_BENCHMARKS=OFF -DLGVI_BUILD_EXAMPLES=OFF -DLGVI_BUILD_PYTHON=OFF -DLGVI_INSTALL=OFF \
+  -DLGVI_BUILD_FUZZERS=ON >/dev/null
 cmake --build "$dir" -j"$jobs" --target test_lgvi test_experiments lgvi-testbed fuzz_scene
 stamp "built"
 

@@ -123,8 +123,8 @@ TEST(CliSuite, BadSceneInTheScenesDirStopsBeforeWritingAnything) {
 
 const std::vector<std::string> kMetadataKeys = {
     "scene", "scene_file", "system", "method", "form", "rotation_update_tolerance", "h", "grid_steps", "t_final",
-    "output_every", "momentum_map", "git_describe", "command_line", "status", "solver_steps", "rejected_steps",
-    "output_rows"};
+    "output_every", "momentum_map", "units", "error_columns", "version", "git_describe", "command_line", "status",
+    "solver_steps", "rejected_steps", "output_rows"};
 
 std::vector<std::string> expected_header(const std::string& system) {
   std::vector<std::string> h = {"t"};

@@ -129,11 +129,19 @@ TEST(CsvWriter, UnwritableDirectoryThrowsAndLeavesNothing) {
 
 TEST(CsvWriter, FailedRenameLeavesNoTemporary) {
   TempDir dir;
-  std::filesystem::create_directory(dir.work() / "taken.csv");  // a directory: rename fails
   {
     CsvWriter csv(dir.work() / "taken.csv", {"t"});
+    // The name becomes a directory while the file is written: the rename fails.
+    std::filesystem::create_directory(dir.work() / "taken.csv");
     EXPECT_THROW(csv.commit({}), OutputError);
   }
+  EXPECT_EQ(dir.work_entries(), std::vector<std::string>{"taken.csv"});
+}
+
+TEST(AtomicFile, RefusesADirectoryUpFront) {
+  TempDir dir;
+  std::filesystem::create_directory(dir.work() / "taken.csv");
+  EXPECT_THROW(AtomicFile(dir.work() / "taken.csv"), OutputError);
   EXPECT_EQ(dir.work_entries(), std::vector<std::string>{"taken.csv"});
 }
 

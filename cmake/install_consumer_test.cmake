@@ -1,0 +1,44 @@
+# ctest examples_against_installed_package: installs the build tree into a fresh prefix, checks
+# that the installed CLI finds its scenes there, then configures, builds and runs examples/ as
+# a project of its own with find_package(lgvi) from that prefix.
+# cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... [-DLAUNCHER=ccache] -P install_consumer_test.cmake
+foreach(var BUILD_DIR SOURCE_DIR WORK_DIR)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "install_consumer_test: ${var} not set")
+  endif()
+endforeach()
+
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+  endif()
+  set(run_output "${out}" PARENT_SCOPE)
+endfunction()
+
+file(REMOVE_RECURSE ${WORK_DIR})
+set(prefix ${WORK_DIR}/prefix)
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+
+# The installed CLI reads the scenes installed beside it, not the source tree.
+run(${prefix}/bin/lgvi-testbed scenes)
+if(NOT run_output MATCHES "free-body")
+  message(FATAL_ERROR "the installed lgvi-testbed lists no free-body scene:\n${run_output}")
+endif()
+run(${prefix}/bin/lgvi-testbed --help)
+if(NOT run_output MATCHES "${prefix}/share/lgvi/scenes")
+  message(FATAL_ERROR "the installed lgvi-testbed's --scenes-dir default is not under the prefix:\n${run_output}")
+endif()
+
+set(launcher)
+if(LAUNCHER)
+  set(launcher -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER})
+endif()
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples -B ${WORK_DIR}/build -DCMAKE_BUILD_TYPE=Release
+    -DCMAKE_PREFIX_PATH=${prefix} ${launcher})
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/build -j2)
+foreach(example free_body user_potential indirect_ocp)
+  run(${WORK_DIR}/build/example_${example})
+  message(STATUS "example_${example}:\n${run_output}")
+endforeach()
+file(REMOVE_RECURSE ${WORK_DIR})
