@@ -226,6 +226,16 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   cmd->add_option("--starts", o.starts,
                   "Direct method: SLSQP starts (the default guess, then seeded random knots); default: "
                   "cart-pendulum 1, connected-bodies 8");
+  cmd->add_option("--solver", o.solver,
+                  "Direct method: slsqp (the paper's single shooting; default) | ipopt (multiple shooting)")
+      ->capture_default_str();
+  cmd->add_option("--hessian", o.hessian,
+                  "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
+                  "constraint curvature left out)")
+      ->capture_default_str();
+  cmd->add_option("--shooting-interval", o.shooting_interval,
+                  "Direct method, --solver ipopt: LGVI steps per shooting segment (1: every state a variable; "
+                  "default 20)");
   cmd->add_option("--seed", o.seed, "Direct method: seed of the random starts")->capture_default_str();
   cmd->add_option("--first-start", o.first_start,
                   "Direct method: number of the first start run (0 = the default guess; K > 0 the K-th "

@@ -38,6 +38,9 @@ struct OcpCommand {
   int starts = 0;                       ///< multistart; 0: the system's default (README)
   long long seed = 1;                   ///< of the random starts
   int first_start = 0;                  ///< run starts first_start .. first_start + starts - 1
+  std::string solver = "slsqp";         ///< or "ipopt" (multiple shooting; lgvi/ocp/README.md)
+  std::string hessian = "limited-memory";  ///< ipopt: or "cost"
+  int shooting_interval = 0;            ///< ipopt: steps per shooting segment; 0: the default (20)
 };
 
 /// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive
