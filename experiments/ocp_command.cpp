@@ -133,6 +133,7 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
       {"inertia_diagonal", join(system.inertia.J.diagonal())},
       {"decomposition", S.decomposition},
       {"merit", std::string(ocp::to_string(options.merit))},
+      {"globalization", std::string(ocp::to_string(options.globalization))},
       {"status", std::string(ocp::to_string(S.status))},
       {"status_detail", S.brief()},
       {"converged", S.converged()},
@@ -210,6 +211,9 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   cmd->add_flag("--no-decomposition", o.no_decomposition,
                 "Pendulum: invert the full (rank-deficient) sensitivity instead of its shape block");
   cmd->add_option("--merit", o.merit, "Line-search merit: velocity (default) | momentum")->capture_default_str();
+  cmd->add_option("--globalization", o.globalization,
+                  "Indirect method: newton-armijo (the paper's; default) | levenberg-marquardt")
+      ->capture_default_str();
   cmd->add_option("--guess", o.guess, "Initial multiplier lambda_0, comma-separated (6 pendulum, 12 dumbbell values)")
       ->delimiter(',');
   cmd->add_option("--max-iterations", o.max_iterations,
@@ -269,6 +273,12 @@ int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std:
   ocp_output::check_step_options(cmd);
   if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 0");
   options.decomposition = !cmd.no_decomposition;
+  try {
+    options.globalization = ocp::parse_globalization(cmd.globalization);
+  } catch (const InvalidInput&) {
+    throw InvalidInput("--globalization",
+                       "must be 'newton-armijo' or 'levenberg-marquardt' (got '" + cmd.globalization + "')");
+  }
   options.max_iterations = cmd.max_iterations > 0 ? cmd.max_iterations : 300;
   const bool pendulum = cmd.system == "pendulum";
   ocp::TransferProblem problem =

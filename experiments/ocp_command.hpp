@@ -25,6 +25,7 @@ struct OcpCommand {
   long long steps = 0;      ///< alternative to h: t_final / steps
   bool no_decomposition = false;
   std::string merit = "velocity";
+  std::string globalization = "newton-armijo";  ///< indirect: or "levenberg-marquardt"
   std::vector<double> guess;  ///< lambda_0; empty: the documented default
   int max_iterations = 0;      ///< 0: the method's default (indirect 300, direct 3000)
   double t_final = 0.0;        ///< 0: the paper's horizon
