@@ -11,6 +11,7 @@ packages=(
   libgsl-dev             # GSL odeiv2 baselines, splines
   libboost-dev           # Boost.Odeint (header-only)
   libnlopt-cxx-dev       # SLSQP for the direct method
+  coinor-libipopt-dev    # IPOPT: multiple shooting for the direct method (ocp --solver ipopt)
   libgtest-dev           # tests
   libbenchmark-dev       # Google Benchmark
   libcli11-dev           # command-line options

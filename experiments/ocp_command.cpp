@@ -134,6 +134,7 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
       {"inertia_diagonal", join(system.inertia.J.diagonal())},
       {"decomposition", S.decomposition},
       {"merit", std::string(ocp::to_string(options.merit))},
+      {"globalization", std::string(ocp::to_string(options.globalization))},
       {"status", std::string(ocp::to_string(S.status))},
       {"status_detail", S.brief()},
       {"converged", S.converged()},
@@ -215,6 +216,9 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   cmd->add_flag("--no-decomposition", o.no_decomposition,
                 "Pendulum: invert the full (rank-deficient) sensitivity instead of its shape block");
   cmd->add_option("--merit", o.merit, "Line-search merit: velocity (default) | momentum")->capture_default_str();
+  cmd->add_option("--globalization", o.globalization,
+                  "Indirect method: newton-armijo (the paper's; default) | levenberg-marquardt")
+      ->capture_default_str();
   cmd->add_option("--guess", o.guess, "Initial multiplier lambda_0, comma-separated (6 pendulum, 12 dumbbell values)")
       ->delimiter(',');
   cmd->add_option("--max-iterations", o.max_iterations,
@@ -231,6 +235,16 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   cmd->add_option("--starts", o.starts,
                   "Direct method: SLSQP starts (the default guess, then seeded random knots); default: "
                   "cart-pendulum 1, connected-bodies 8");
+  cmd->add_option("--solver", o.solver,
+                  "Direct method: slsqp (the paper's single shooting; default) | ipopt (multiple shooting)")
+      ->capture_default_str();
+  cmd->add_option("--hessian", o.hessian,
+                  "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
+                  "constraint curvature left out)")
+      ->capture_default_str();
+  cmd->add_option("--shooting-interval", o.shooting_interval,
+                  "Direct method, --solver ipopt: LGVI steps per shooting segment (1: every state a variable; "
+                  "default 20)");
   cmd->add_option("--seed", o.seed, "Direct method: seed of the random starts")->capture_default_str();
   cmd->add_option("--first-start", o.first_start,
                   "Direct method: number of the first start run (0 = the default guess; K > 0 the K-th "
@@ -264,6 +278,12 @@ int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std:
   ocp_output::check_step_options(cmd);
   if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 0");
   options.decomposition = !cmd.no_decomposition;
+  try {
+    options.globalization = ocp::parse_globalization(cmd.globalization);
+  } catch (const InvalidInput&) {
+    throw InvalidInput("--globalization",
+                       "must be 'newton-armijo' or 'levenberg-marquardt' (got '" + cmd.globalization + "')");
+  }
   options.max_iterations = cmd.max_iterations > 0 ? cmd.max_iterations : 300;
   const bool pendulum = cmd.system == "pendulum";
   ocp::TransferProblem problem =

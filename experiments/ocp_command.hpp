@@ -25,6 +25,7 @@ struct OcpCommand {
   long long steps = 0;      ///< alternative to h: t_final / steps
   bool no_decomposition = false;
   std::string merit = "velocity";
+  std::string globalization = "newton-armijo";  ///< indirect: or "levenberg-marquardt"
   std::vector<double> guess;  ///< lambda_0; empty: the documented default
   int max_iterations = 0;      ///< 0: the method's default (indirect 300, direct 3000)
   double t_final = 0.0;        ///< 0: the paper's horizon
@@ -38,6 +39,9 @@ struct OcpCommand {
   int starts = 0;                       ///< multistart; 0: the system's default (README)
   long long seed = 1;                   ///< of the random starts
   int first_start = 0;                  ///< run starts first_start .. first_start + starts - 1
+  std::string solver = "slsqp";         ///< or "ipopt" (multiple shooting; lgvi/ocp/README.md)
+  std::string hessian = "limited-memory";  ///< ipopt: or "cost"
+  int shooting_interval = 0;            ///< ipopt: steps per shooting segment; 0: the default (20)
 };
 
 /// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive

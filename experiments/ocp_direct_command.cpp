@@ -31,6 +31,7 @@ constexpr double kPaperStep = 0.01;  // both sections (validation/paper_values.t
 constexpr int kCartPendulumStarts = 1;
 constexpr int kConnectedBodiesStarts = 8;
 constexpr int kMaxEvaluations = 3000;  // per start; the connected bodies' starts take 400..2500
+constexpr int kMaxIpoptIterations = 1000;  // per start (multiple shooting takes tens to hundreds)
 
 using ocp_output::join;
 using ocp_output::values;
@@ -121,7 +122,12 @@ int solve_and_write(const typename Model::System& system, const typename Model::
   const bool have_r = r.size() > 0;
   Fields f = {
       {"system", cmd.system},
-      {"method", std::string("direct: cubic-spline controls, SLSQP (NLopt)")},
+      {"method", std::string(options.solver == ocp::DirectSolver::Slsqp
+                                 ? "direct: cubic-spline controls, SLSQP (NLopt)"
+                                 : "direct: cubic-spline controls, multiple shooting, IPOPT")},
+      {"solver", std::string(ocp::to_string(options.solver))},
+      {"hessian", std::string(options.solver == ocp::DirectSolver::Slsqp ? "" : ocp::to_string(options.ipopt_hessian))},
+      {"shooting_interval", std::int64_t{options.solver == ocp::DirectSolver::Slsqp ? 0 : options.shooting_interval}},
       {"form", std::string(to_string(options.form))},
       {"h", options.h},
       {"steps", static_cast<std::int64_t>(S.steps)},
@@ -171,6 +177,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
       {"start_costs", start_field(S, [](const ocp::DirectStart& s) { return shortest(s.cost); })},
       {"start_violations", start_field(S, [](const ocp::DirectStart& s) { return shortest(s.violation); })},
       {"start_iterations", start_field(S, [](const ocp::DirectStart& s) { return std::to_string(s.iterations); })},
+      {"start_seconds", start_field(S, [](const ocp::DirectStart& s) { return shortest(s.seconds); })},
       {"start_statuses", start_field(S, [](const ocp::DirectStart& s) { return std::string(ocp::to_string(s.status)); }, "; ")},
       {"knot_times", join(knot_times)},
       {"initial_knots", join(S.best_start >= 0 ? S.starts[S.best_start].initial_knots : S.initial_knots)},
@@ -272,7 +279,23 @@ int run_ocp_direct_command(const OcpCommand& cmd, const std::string& command_lin
   if (cmd.first_start < 0) throw InvalidInput("--first-start", "must be >= 0");
   options.first_start = cmd.first_start;
   options.tolerance = cmd.tolerance;
-  options.max_evaluations = cmd.max_iterations > 0 ? cmd.max_iterations : kMaxEvaluations;
+  try {
+    options.solver = ocp::parse_direct_solver(cmd.solver);
+  } catch (const InvalidInput&) {
+    throw InvalidInput("--solver", "must be 'slsqp' or 'ipopt' (got '" + cmd.solver + "')");
+  }
+  if (cmd.shooting_interval < 0) throw InvalidInput("--shooting-interval", "must be >= 1");
+  if (cmd.shooting_interval > 0 && options.solver != ocp::DirectSolver::IpoptMultipleShooting) {
+    throw InvalidInput("--shooting-interval", "applies to --solver ipopt only");
+  }
+  if (cmd.shooting_interval > 0) options.shooting_interval = cmd.shooting_interval;
+  try {
+    options.ipopt_hessian = ocp::parse_ipopt_hessian(cmd.hessian);
+  } catch (const InvalidInput&) {
+    throw InvalidInput("--hessian", "must be 'limited-memory' or 'cost' (got '" + cmd.hessian + "')");
+  }
+  const int default_cap = options.solver == ocp::DirectSolver::Slsqp ? kMaxEvaluations : kMaxIpoptIterations;
+  options.max_evaluations = cmd.max_iterations > 0 ? cmd.max_iterations : default_cap;
   const bool cart = cmd.system == "cart-pendulum";
   options.starts = cmd.starts > 0 ? cmd.starts : cart ? kCartPendulumStarts : kConnectedBodiesStarts;
   ocp::CartPendulumTransfer cart_problem = ocp::CartPendulumTransfer::paper();

@@ -1,5 +1,6 @@
 // Direct method (sections 4.1, 4.2): exact gradients (forward sensitivities through the
 // linearized LGVI) against central finite differences, per gradient and per SLSQP solve.
+// Then single shooting (SLSQP) against multiple shooting (IPOPT), the connected bodies' multistart.
 // Counters: SQP iterations, LGVI simulations, final cost and violation of the solve. The ratios
 // (finite-difference / exact) of wall time and iterations are reported in lgvi/ocp/README.md.
 #include <benchmark/benchmark.h>
@@ -67,11 +68,50 @@ void BM_ConnectedBodiesSolve(benchmark::State& bench) {
   solve(bench, system, ocp::ConnectedBodiesTransfer::paper(), o);
 }
 
+// Single shooting (SLSQP, the paper's) against multiple shooting (IPOPT, limited-memory Hessian),
+// exact gradients both. Cart-pendulum from the default guess; connected bodies as the CLI runs
+// it: the 8-start multistart (seed 1), counters per run (feasible starts: violation <= 1e-10).
+// Arguments: solver (0 SLSQP, 1 IPOPT), steps per shooting segment (IPOPT).
+ocp::DirectOptions solver_options(const benchmark::State& bench) {
+  ocp::DirectOptions o;
+  if (bench.range(0) == 1) {
+    o.solver = ocp::DirectSolver::IpoptMultipleShooting;
+    o.shooting_interval = static_cast<int>(bench.range(1));
+    o.max_evaluations = 1000;  // the CLI's IPOPT iteration cap
+  }
+  return o;
+}
+
+template <class System, class Transfer>
+void multistart(benchmark::State& bench, const System& system, const Transfer& problem, const ocp::DirectOptions& o) {
+  ocp::DirectSummary last;
+  for (auto _ : bench) last = ocp::solve_direct(system, problem, o).summary;
+  int feasible = 0;
+  for (const ocp::DirectStart& st : last.starts) feasible += st.violation <= o.tolerance ? 1 : 0;
+  bench.counters["starts"] = static_cast<double>(last.starts.size());
+  bench.counters["feasible"] = feasible;
+  bench.counters["iterations"] = last.iterations;
+  bench.counters["simulations"] = static_cast<double>(last.simulations);
+  bench.counters["best_cost"] = last.cost;
+  bench.counters["violation"] = last.violation;
+}
+
+void BM_CartPendulumSolver(benchmark::State& bench) {
+  multistart(bench, CartPendulum::paper(), ocp::CartPendulumTransfer::paper(), solver_options(bench));
+}
+void BM_ConnectedBodiesMultistart(benchmark::State& bench) {
+  ocp::DirectOptions o = solver_options(bench);
+  o.starts = 8;
+  multistart(bench, ConnectedBodies::paper(), ocp::ConnectedBodiesTransfer::paper(), o);
+}
+
 // Argument: 0 = exact gradients, 1 = central finite differences.
 BENCHMARK(BM_CartPendulumGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ConnectedBodiesGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CartPendulumSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_ConnectedBodiesSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_CartPendulumSolver)->Args({0, 0})->Args({1, 20})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_ConnectedBodiesMultistart)->Args({0, 0})->Args({1, 20})->Args({1, 100})->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 

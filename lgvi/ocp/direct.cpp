@@ -1,6 +1,7 @@
 // Direct discrete optimal control: linearized multibody steps, forward sensitivities, SLSQP.
 // The derivations of every block below are in lgvi/ocp/README.md ("Direct method").
 #include "lgvi/ocp/direct.hpp"
+#include "lgvi/ocp/direct_ipopt.hpp"
 
 #include <nlopt.h>
 
@@ -141,6 +142,16 @@ CartPendulumState perturb(const CartPendulumState& s, const CartPendulum& system
   return t;
 }
 
+CartPendulumState CartPendulumDirectModel::retract(const Lgvi& lgvi, const State& a, const VecW& w) {
+  return perturb(a, lgvi.system(), w);
+}
+
+CartPendulumDirectModel::VecW CartPendulumDirectModel::difference(const State& a, const State& b) {
+  VecW w;
+  w << so3::log(a.R.transpose() * b.R), b.q - a.q, b.Pi - a.Pi, b.p - a.p;
+  return w;
+}
+
 // --- connected bodies --------------------------------------------------------------------------
 
 void ConnectedBodiesDirectModel::step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
@@ -250,6 +261,16 @@ ConnectedBodiesState perturb(const ConnectedBodiesState& s, const Eigen::Matrix<
   return t;
 }
 
+ConnectedBodiesState ConnectedBodiesDirectModel::retract(const Lgvi&, const State& a, const VecW& w) {
+  return perturb(a, w);
+}
+
+ConnectedBodiesDirectModel::VecW ConnectedBodiesDirectModel::difference(const State& a, const State& b) {
+  VecW w;
+  w << so3::log(a.R1.transpose() * b.R1), so3::log(a.R2.transpose() * b.R2), b.Pi1 - a.Pi1, b.Pi2 - a.Pi2;
+  return w;
+}
+
 // --- names -------------------------------------------------------------------------------------
 
 const char* to_string(GradientMethod g) { return g == GradientMethod::Exact ? "exact" : "finite-difference"; }
@@ -258,6 +279,22 @@ GradientMethod parse_gradient_method(const std::string& name) {
   if (name == "exact") return GradientMethod::Exact;
   if (name == "finite-difference") return GradientMethod::FiniteDifference;
   throw InvalidInput("gradients", "must be 'exact' or 'finite-difference' (got '" + name + "')");
+}
+
+const char* to_string(DirectSolver s) { return s == DirectSolver::Slsqp ? "slsqp" : "ipopt"; }
+
+DirectSolver parse_direct_solver(const std::string& name) {
+  if (name == "slsqp") return DirectSolver::Slsqp;
+  if (name == "ipopt") return DirectSolver::IpoptMultipleShooting;
+  throw InvalidInput("solver", "must be 'slsqp' or 'ipopt' (got '" + name + "')");
+}
+
+const char* to_string(IpoptHessian h) { return h == IpoptHessian::LimitedMemory ? "limited-memory" : "cost"; }
+
+IpoptHessian parse_ipopt_hessian(const std::string& name) {
+  if (name == "limited-memory") return IpoptHessian::LimitedMemory;
+  if (name == "cost") return IpoptHessian::CostOnly;
+  throw InvalidInput("hessian", "must be 'limited-memory' or 'cost' (got '" + name + "')");
 }
 
 const char* to_string(DirectStatus s) {
@@ -487,6 +524,179 @@ std::string DirectTranscription<Model>::failure_message(const Evaluation& e) con
   return buf;
 }
 
+// --- multiple shooting -------------------------------------------------------------------------
+
+template <class Model>
+bool DirectTranscription<Model>::shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingNodes& n,
+                                                Evaluation& e) const {
+  if (interval < 1) throw InvalidInput("shooting_interval", "must be >= 1");
+  n.nodes.clear();
+  n.reference.clear();
+  for (std::size_t k = 0; k < steps_; k += static_cast<std::size_t>(interval)) n.nodes.push_back(k);
+  n.nodes.push_back(steps_);
+  const NodeControls U = node_controls(c);
+  State s = initial_, next;
+  std::size_t j = 1;
+  for (std::size_t k = 0; k < steps_; ++k) {
+    const RotationUpdateSummary r =
+        lgvi_.step(s, h_, U.col(static_cast<Eigen::Index>(k)), U.col(static_cast<Eigen::Index>(k + 1)), next);
+    if (!r.converged()) {
+      e.failed_step = k;
+      e.failure = r;
+      e.ok = false;
+      return false;
+    }
+    s = next;
+    if (j + 1 < n.nodes.size() && k + 1 == n.nodes[j]) {
+      n.reference.push_back(s);
+      ++j;
+    }
+  }
+  return true;
+}
+
+template <class Model>
+void DirectTranscription<Model>::shooting_structure(const ShootingNodes& n, std::vector<int>& rows,
+                                                    std::vector<int>& cols) const {
+  const int np = parameters(), K = n.segments();
+  const auto block = [&](int r0, int c0, int nr, int nc) {
+    for (int r = 0; r < nr; ++r) {
+      for (int q = 0; q < nc; ++q) {
+        rows.push_back(r0 + r);
+        cols.push_back(c0 + q);
+      }
+    }
+  };
+  for (int j = 0; j < K; ++j) {
+    const int r0 = j * nw, nr = j + 1 < K ? nw : constraints();
+    block(r0, 0, nr, np);
+    if (j >= 1) block(r0, np + (j - 1) * nw, nr, nw);
+    if (j + 1 < K) block(r0, np + j * nw, nw, nw);
+  }
+}
+
+namespace {
+
+// The chart Jacobians of multiple shooting (tangent layout of Model::retract). Rotation blocks:
+// retract: exp(z + dz) = exp(z) exp(Jr(z) dz), so the state moves by eta = Jr(z) dz;
+// difference(a, b) = log(R_a^T R_b) = phi: d phi = Jr^{-1}(phi) eta_b - Jl^{-1}(phi) eta_a.
+// The other coordinates enter with the identity.
+template <class Model>
+typename Model::MatW retract_jacobian(const typename Model::VecW& z) {
+  typename Model::MatW J = Model::MatW::Identity();
+  for (int i = 0; i < Model::rotations; ++i) J.template block<3, 3>(3 * i, 3 * i) = so3::right_jacobian(z.template segment<3>(3 * i));
+  return J;
+}
+template <class Model>
+void difference_jacobians(const typename Model::VecW& d, typename Model::MatW& J_d_a, typename Model::MatW& J_d_b) {
+  J_d_a = -Model::MatW::Identity();
+  J_d_b = Model::MatW::Identity();
+  for (int i = 0; i < Model::rotations; ++i) {
+    const Vec3 phi = d.template segment<3>(3 * i);
+    J_d_a.template block<3, 3>(3 * i, 3 * i) = -so3::left_jacobian_inverse(phi);
+    J_d_b.template block<3, 3>(3 * i, 3 * i) = so3::right_jacobian_inverse(phi);
+  }
+}
+
+}  // namespace
+
+template <class Model>
+bool DirectTranscription<Model>::evaluate_shooting(const ShootingNodes& n, const Eigen::VectorXd& x, bool gradients,
+                                                   ShootingEvaluation& e) const {
+  using MatW = typename Model::MatW;
+  using VecW = typename Model::VecW;
+  const int np = parameters(), K = n.segments(), m = constraints();
+  const std::size_t N = steps_;
+  const Eigen::VectorXd c = x.head(np);
+  e.controls.resize(nu, static_cast<Eigen::Index>(N + 1));
+  for (int a = 0; a < nu; ++a) e.controls.row(a).noalias() = (S_ * c.segment(a * knots_, knots_)).transpose();
+  e.cost = 0.0;
+  e.cost_gradient.setZero(x.size());
+  for (std::size_t j = 0; j <= N; ++j) {
+    const VecU u = e.controls.col(static_cast<Eigen::Index>(j));
+    const VecU Wu = W_ * u;
+    e.cost += 0.5 * node_weights_(j) * u.dot(Wu);
+    if (gradients) {
+      for (int a = 0; a < nu; ++a) {
+        e.cost_gradient.segment(a * knots_, knots_) += (node_weights_(j) * Wu(a)) * S_.row(j).transpose();
+      }
+    }
+  }
+  e.constraints.resize(shooting_constraints(n));
+  if (gradients) {
+    e.jacobian_values.clear();
+    e.Phi.resize(nw, np + nw);
+    e.Phi_next.resize(nw, np + nw);
+  }
+  e.ok = false;
+  MatW A, J_d_a, J_d_b;
+  typename Model::MatWU B0, B1;
+  State s, next;
+  const auto push = [&](const auto& block) {  // row-major, as shooting_structure lists it
+    for (Eigen::Index r = 0; r < block.rows(); ++r) {
+      for (Eigen::Index q = 0; q < block.cols(); ++q) e.jacobian_values.push_back(block(r, q));
+    }
+  };
+  for (int j = 0; j < K; ++j) {
+    // Segment j starts at s_j (s_0 the fixed initial state): Phi = d s / d[c, eta_j] from [0, I].
+    VecW z_j = VecW::Zero();
+    if (j == 0) {
+      s = initial_;
+    } else {
+      z_j = x.segment(np + (j - 1) * nw, nw);
+      s = Model::retract(lgvi_, n.reference[static_cast<std::size_t>(j - 1)], z_j);
+    }
+    if (gradients) {
+      e.Phi.setZero();
+      e.Phi.rightCols(nw).setIdentity();
+    }
+    for (std::size_t k = n.nodes[static_cast<std::size_t>(j)]; k < n.nodes[static_cast<std::size_t>(j + 1)]; ++k) {
+      const VecU u0 = e.controls.col(static_cast<Eigen::Index>(k));
+      const VecU u1 = e.controls.col(static_cast<Eigen::Index>(k + 1));
+      const RotationUpdateSummary r = lgvi_.step(s, h_, u0, u1, next);
+      if (!r.converged()) {
+        e.failed_step = k;
+        e.failure = r;
+        return false;
+      }
+      if (gradients) {
+        Model::step_jacobians(lgvi_, s, next, h_, u0, u1, A, B0, B1);
+        e.Phi_next.noalias() = A * e.Phi;
+        for (int a = 0; a < nu; ++a) {
+          e.Phi_next.middleCols(a * knots_, knots_).noalias() +=
+              B0.col(a) * S_.row(static_cast<Eigen::Index>(k)) + B1.col(a) * S_.row(static_cast<Eigen::Index>(k + 1));
+        }
+        e.Phi.swap(e.Phi_next);
+      }
+      s = next;
+    }
+    if (j + 1 < K) {
+      const State& target = Model::retract(lgvi_, n.reference[static_cast<std::size_t>(j)], x.segment(np + j * nw, nw));
+      const VecW d = Model::difference(target, s);
+      e.constraints.segment(j * nw, nw) = d;
+      if (gradients) {
+        difference_jacobians<Model>(d, J_d_a, J_d_b);
+        const Eigen::Matrix<double, nw, Eigen::Dynamic> Jc = J_d_b * e.Phi.leftCols(np);
+        push(Jc);
+        if (j >= 1) push(MatW(J_d_b * e.Phi.rightCols(nw) * retract_jacobian<Model>(z_j)));
+        push(MatW(J_d_a * retract_jacobian<Model>(x.segment(np + j * nw, nw))));
+      }
+    } else {
+      e.ok = true;
+      const typename Model::VecR residual = Model::residual(lgvi_, problem_, s);
+      for (int i = 0; i < m; ++i) e.constraints(j * nw + i) = residual(rows_[static_cast<std::size_t>(i)]);
+      if (gradients) {
+        const typename Model::MatRW D = Model::residual_jacobian(lgvi_, problem_, s);
+        Eigen::MatrixXd Dr(m, nw);
+        for (int i = 0; i < m; ++i) Dr.row(i) = D.row(rows_[static_cast<std::size_t>(i)]);
+        push(Eigen::MatrixXd(Dr * e.Phi.leftCols(np)));
+        if (j >= 1) push(Eigen::MatrixXd(Dr * e.Phi.rightCols(nw) * retract_jacobian<Model>(z_j)));
+      }
+    }
+  }
+  return true;
+}
+
 template class DirectTranscription<CartPendulumDirectModel>;
 template class DirectTranscription<ConnectedBodiesDirectModel>;
 
@@ -638,6 +848,43 @@ struct Callback {
   }
 };
 
+// Scaling. The cost is quadratic in the knots, J = c^T H c / 2, H = W (x) S^T diag(w) S; SLSQP
+// (and IPOPT's limited-memory Hessian) start their quasi-Newton matrix at a multiple of the
+// identity, so the objective is J / mean(diag H): its Hessian then has unit mean diagonal. The
+// constraints are O(1) in their units (rad, m, rad/s, m/s) and enter unscaled.
+template <class Model>
+double objective_scale(const DirectTranscription<Model>& tr, const DirectOptions& options) {
+  double diag = 0.0;
+  const Eigen::MatrixXd& Sm = tr.sampling();
+  for (Eigen::Index j = 0; j < Sm.rows(); ++j) diag += tr.node_weight(j) * Sm.row(j).squaredNorm();
+  return options.objective_scale > 0.0 ? options.objective_scale
+                                       : diag / static_cast<double>(Sm.cols()) * tr.weight().trace() / Model::nu;
+}
+
+// Feasibility polish after multiple shooting: IPOPT meets the defects to its tolerance, but the
+// reported violation is that of the knots re-simulated in one sweep, where the chaotic flow
+// amplifies the defects. Minimum-norm Gauss-Newton steps on the constraints handed to the solver,
+// c <- c - J^T (J J^T)^{-1} g(c), restore it (quadratic convergence from a point that is
+// feasible up to amplified round-off; the cost moves by O(|g|), i.e. below the tolerance).
+// Returns the number of steps taken (at most max_steps); counts into S.
+template <class Model>
+int polish_feasibility(const DirectTranscription<Model>& tr, const DirectOptions& options, Eigen::VectorXd& c,
+                       DirectSummary& S, int max_steps) {
+  typename DirectTranscription<Model>::Evaluation e;
+  int steps = 0;
+  for (; steps < max_steps; ++steps) {
+    if (!tr.evaluate(c, true, e)) break;
+    ++S.simulations;
+    ++S.gradient_evaluations;
+    if (e.residual.norm() <= 0.1 * options.tolerance) break;
+    const Eigen::MatrixXd& J = e.constraint_jacobian;
+    const Eigen::VectorXd step = J.transpose() * (J * J.transpose()).ldlt().solve(e.constraints);
+    if (!step.allFinite()) break;
+    c -= step;
+  }
+  return steps;
+}
+
 // One SLSQP run from x (updated to the returned point). Appends to S.history, counts into S.
 template <class Model>
 nlopt_result run_slsqp(const DirectTranscription<Model>& tr, const DirectOptions& options, int start_index,
@@ -650,16 +897,7 @@ nlopt_result run_slsqp(const DirectTranscription<Model>& tr, const DirectOptions
   cb.summary = &S;
   cb.start = start;
   cb.start_index = start_index;
-  // Scaling. The cost is quadratic in the knots, J = c^T H c / 2, H = W (x) S^T diag(w) S; SLSQP
-  // starts its quasi-Newton matrix at the identity, so the objective is J / mean(diag H): its
-  // Hessian then has unit mean diagonal. The constraints are O(1) in their units (rad, m, rad/s,
-  // m/s) and enter unscaled.
-  double diag = 0.0;
-  const Eigen::MatrixXd& Sm = tr.sampling();
-  for (Eigen::Index j = 0; j < Sm.rows(); ++j) diag += tr.node_weight(j) * Sm.row(j).squaredNorm();
-  cb.cost_scale = options.objective_scale > 0.0
-                      ? options.objective_scale
-                      : diag / static_cast<double>(Sm.cols()) * tr.weight().trace() / Model::nu;
+  cb.cost_scale = objective_scale(tr, options);
   nlopt_opt opt = nlopt_create(NLOPT_LD_SLSQP, static_cast<unsigned>(n));
   nlopt_set_min_objective(opt, &Callback<Model>::objective, &cb);
   // The constraint tolerance SLSQP uses for its own feasibility test (it returns the best point
@@ -697,6 +935,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   S.form = options.form;
   S.spline = options.spline;
   S.gradients = options.gradients;
+  S.solver = options.solver;
   S.h = options.h;
   S.knots = options.knots;
   const auto start = std::chrono::steady_clock::now();
@@ -706,6 +945,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
     if (!(options.tolerance > 0.0)) throw InvalidInput("tolerance", "must be > 0");
     if (options.starts < 1) throw InvalidInput("starts", "must be >= 1");
     if (options.first_start < 0) throw InvalidInput("first_start", "must be >= 0");
+    if (options.shooting_interval < 1) throw InvalidInput("shooting_interval", "must be >= 1");
     if (!(options.objective_scale >= 0.0) || !std::isfinite(options.objective_scale)) {
       throw InvalidInput("objective_scale", "must be finite and >= 0");
     }
@@ -742,12 +982,26 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
     const auto t0 = std::chrono::steady_clock::now();
     const int gradients_before = S.gradient_evaluations;
     const std::size_t history_before = S.history.size();
-    const nlopt_result code = run_slsqp(*tr, options, k, x, S, start);
-    st.nlopt_result = nlopt_name(code);
-    st.evaluations = static_cast<int>(S.history.size() - history_before);
+    DirectStatus solver_status;  // from the solver's code, before our own check of the point
+    if (options.solver == DirectSolver::Slsqp) {
+      const nlopt_result code = run_slsqp(*tr, options, k, x, S, start);
+      st.nlopt_result = nlopt_name(code);
+      solver_status = true_status(code, true);
+      st.evaluations = static_cast<int>(S.history.size() - history_before);
+      st.iterations = 0;
+      for (std::size_t i = history_before; i < S.history.size(); ++i) st.iterations += S.history[i].gradient ? 1 : 0;
+    } else {
+      const long simulations_before = S.simulations;
+      const detail::IpoptOutcome o = detail::run_ipopt(*tr, options, k, objective_scale(*tr, options), x, S, start);
+      st.nlopt_result = o.code;
+      solver_status = o.success           ? DirectStatus::Converged
+                      : o.iteration_limit ? DirectStatus::MaxEvaluations
+                                          : DirectStatus::SolverFailure;
+      if (o.success) polish_feasibility(*tr, options, x, S, 8);
+      st.iterations = o.iterations;
+      st.evaluations = static_cast<int>(S.simulations - simulations_before);
+    }
     st.gradient_evaluations = S.gradient_evaluations - gradients_before;
-    st.iterations = 0;
-    for (std::size_t i = history_before; i < S.history.size(); ++i) st.iterations += S.history[i].gradient ? 1 : 0;
     // The true status, from our own evaluation of the returned point.
     typename DirectTranscription<Model>::Evaluation e;
     const bool ok = tr->evaluate(x, false, e);
@@ -758,7 +1012,9 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
     } else {
       st.cost = e.cost;
       st.violation = e.residual.norm();
-      st.status = true_status(code, st.violation <= options.tolerance);
+      st.status = solver_status != DirectStatus::Converged    ? solver_status
+                  : st.violation <= options.tolerance ? DirectStatus::Converged
+                                                      : DirectStatus::Infeasible;
     }
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const auto better = [&](const DirectStart& a, const DirectStart& b) {

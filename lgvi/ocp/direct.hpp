@@ -76,6 +76,7 @@ struct DirectModelDimensions {
   using MatWU = Eigen::Matrix<double, nw, nu>;
   using VecR = Eigen::Matrix<double, nr_full, 1>;
   using MatRW = Eigen::Matrix<double, nr_full, nw>;
+  using VecW = Eigen::Matrix<double, nw, 1>;
 };
 
 /// The linearized step and the terminal residual of the cart-pendulum. Tangent coordinates
@@ -96,6 +97,12 @@ struct CartPendulumDirectModel : DirectModelDimensions<10, 2, 10, 10> {
   static State initial_state(const Lgvi& lgvi, const Transfer& p) {
     return lgvi.make_state(p.R0, p.q0, p.Omega0, p.q_dot0);
   }
+  /// Multiple shooting's chart: the first 3 * rotations tangent coordinates are rotation vectors
+  /// (R -> R exp(hat eta)), the rest is added. retract(a, w) moves a by w; difference(a, b) is the
+  /// w with retract(a, w) = b (log(R_a^T R_b) for the rotation, |angle| < pi).
+  static constexpr int rotations = 1;
+  static State retract(const Lgvi& lgvi, const State& a, const VecW& w);
+  static VecW difference(const State& a, const State& b);
 };
 
 /// The same for the connected bodies: w = [eta1; eta2; dPi1; dPi2]. The residual's last three
@@ -113,6 +120,9 @@ struct ConnectedBodiesDirectModel : DirectModelDimensions<12, 3, 9, 12> {
   static State initial_state(const Lgvi& lgvi, const Transfer& p) {
     return lgvi.make_state(p.R1_0, p.R2_0, p.Omega1_0, p.Omega2_0);
   }
+  static constexpr int rotations = 2;  ///< see CartPendulumDirectModel::retract
+  static State retract(const Lgvi& lgvi, const State& a, const VecW& w);
+  static VecW difference(const State& a, const State& b);
 };
 
 /// Tangent retraction for tests: the state moved by w (R -> R exp(hat eta), the rest added).
@@ -125,6 +135,23 @@ const char* to_string(GradientMethod g);
 /// Parses "exact" or "finite-difference"; throws InvalidInput("gradients", ...).
 GradientMethod parse_gradient_method(const std::string& name);
 
+/// The optimizer of the direct method. Slsqp: the paper's single shooting, SLSQP on the knot
+/// values. IpoptMultipleShooting: the same problem (same knots, cost, terminal constraints)
+/// transcribed by multiple shooting (the states at every shooting_interval-th node become
+/// variables, the LGVI runs between them become equality constraints) and solved by IPOPT
+/// (README "Multiple shooting with IPOPT").
+enum class DirectSolver { Slsqp, IpoptMultipleShooting };
+const char* to_string(DirectSolver s);
+/// Parses "slsqp" or "ipopt"; throws InvalidInput("solver", ...).
+DirectSolver parse_direct_solver(const std::string& name);
+
+/// The Hessian of the Lagrangian IPOPT uses. LimitedMemory: IPOPT's L-BFGS. CostOnly: the
+/// exact Hessian of the cost, the constraints' curvature left out (generalized Gauss-Newton).
+enum class IpoptHessian { LimitedMemory, CostOnly };
+const char* to_string(IpoptHessian h);
+/// Parses "limited-memory" or "cost"; throws InvalidInput("hessian", ...).
+IpoptHessian parse_ipopt_hessian(const std::string& name);
+
 struct DirectOptions {
   LgviForm form = LgviForm::Printed;  ///< printed: the paper's eqs. 34-35, 44-45 and cost 38, 48
   double h = 0.01;                    ///< t_final / h must be an integer (to 1e-9 relative)
@@ -133,7 +160,11 @@ struct DirectOptions {
   GradientMethod gradients = GradientMethod::Exact;
   Eigen::MatrixXd W;              ///< n_u x n_u symmetric positive definite; empty: identity
   Eigen::VectorXd initial_knots;  ///< n_u * knots values, component by component; empty: default
-  int max_evaluations = 3000;     ///< SLSQP function evaluations per start
+  DirectSolver solver = DirectSolver::Slsqp;
+  /// IPOPT: LGVI steps per shooting segment (1: every state a variable, DMOC's full transcription).
+  int shooting_interval = 20;
+  IpoptHessian ipopt_hessian = IpoptHessian::LimitedMemory;
+  int max_evaluations = 3000;     ///< SLSQP function evaluations per start; IPOPT: iterations per start
   double tolerance = 1e-10;       ///< on the violation (2-norm), checked on the returned point
   double ftol_rel = 1e-14;        ///< SLSQP's relative cost tolerance
   /// The objective handed to SLSQP is J / objective_scale; 0: automatic, the mean diagonal of
@@ -184,7 +215,7 @@ struct DirectIteration {
 struct DirectStart {
   int index = 0;
   DirectStatus status = DirectStatus::SolverFailure;
-  std::string nlopt_result;
+  std::string nlopt_result;  ///< the solver's return code (NLopt's, or IPOPT's e.g. "Solve_Succeeded")
   double cost = std::numeric_limits<double>::infinity();
   double violation = std::numeric_limits<double>::infinity();
   int iterations = 0;
@@ -197,11 +228,12 @@ struct DirectStart {
 struct DirectSummary {
   DirectStatus status = DirectStatus::InvalidInput;
   std::string message;
-  std::string nlopt_result;  ///< NLopt's own return code, e.g. "NLOPT_FTOL_REACHED"
+  std::string nlopt_result;  ///< the solver's return code, e.g. "NLOPT_FTOL_REACHED" or IPOPT's "Solve_Succeeded"
   std::string system;
   LgviForm form = LgviForm::Printed;
   SplineEnd spline = SplineEnd::NotAKnot;
   GradientMethod gradients = GradientMethod::Exact;
+  DirectSolver solver = DirectSolver::Slsqp;
   double h = 0.0;
   std::size_t steps = 0;
   int knots = 0;
@@ -270,6 +302,43 @@ class DirectTranscription {
   /// u_0..u_N (columns) of knot values c.
   NodeControls node_controls(const Eigen::VectorXd& c) const;
   std::string failure_message(const Evaluation& e) const;
+
+  // --- multiple shooting (DirectSolver::IpoptMultipleShooting) ---------------------------------
+  // Variables x = [c (n_u * knots); z_1; ...; z_{K-1}]: the knot values, then the states at the
+  // shooting nodes n_1 < ... < n_{K-1} (n_j = j * interval, n_0 = 0, n_K = N) in the chart
+  // s_j = retract(ref_j, z_j) about reference states ref_j. Constraints: the defects
+  // difference(s_{j+1}, Phi_j(s_j, c)) = 0, j = 0..K-2 (Phi_j: the LGVI from n_j to n_{j+1} under
+  // the spline controls), then the terminal rows r(Phi_{K-1}(s_{K-1}, c)) = 0. The cost, the
+  // terminal rows and the controls are those of single shooting: one problem, two transcriptions.
+  struct ShootingNodes {
+    std::vector<std::size_t> nodes;  ///< n_0 = 0 < n_1 < ... < n_K = N
+    std::vector<State> reference;    ///< ref_1..ref_{K-1} (at nodes[1..K-1])
+    int segments() const { return static_cast<int>(nodes.size()) - 1; }
+  };
+  /// Nodes every `interval` steps, references from simulating the knot values c (the guess
+  /// control). Returns false (and leaves the failure in e) when that simulation fails.
+  bool shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingNodes& nodes, Evaluation& e) const;
+  int shooting_variables(const ShootingNodes& n) const { return parameters() + (n.segments() - 1) * nw; }
+  int shooting_constraints(const ShootingNodes& n) const { return (n.segments() - 1) * nw + constraints(); }
+  /// The constraint Jacobian's dense blocks in the order evaluate_shooting fills jacobian_values
+  /// (each block row-major): for segment j, rows j*nw.., the columns of c, of z_j (j >= 1) and of
+  /// z_{j+1} (j < K-1). Appends (row, column) pairs of all nonzeros to rows/cols.
+  void shooting_structure(const ShootingNodes& n, std::vector<int>& rows, std::vector<int>& cols) const;
+  struct ShootingEvaluation {
+    bool ok = false;
+    std::size_t failed_step = 0;
+    RotationUpdateSummary failure;
+    double cost = 0.0;
+    Eigen::VectorXd cost_gradient;     ///< with respect to x (zero on the z block)
+    Eigen::VectorXd constraints;       ///< defects, then the terminal rows
+    std::vector<double> jacobian_values;  ///< in shooting_structure's order
+    Eigen::Matrix<double, nw, Eigen::Dynamic> Phi, Phi_next;  ///< d(state)/d[c, start state]
+    NodeControls controls;
+  };
+  /// The constraints (and with `gradients` their exact sparse Jacobian, by the step
+  /// linearizations segment by segment, and the cost gradient) at x. Returns e.ok.
+  bool evaluate_shooting(const ShootingNodes& n, const Eigen::VectorXd& x, bool gradients,
+                         ShootingEvaluation& e) const;
 
   const typename Model::Lgvi& lgvi() const { return lgvi_; }
   const Transfer& problem() const { return problem_; }

@@ -51,6 +51,16 @@ TransferProblem TransferProblem::dumbbell_paper() {
 
 const char* to_string(Merit m) { return m == Merit::Velocity ? "velocity" : "momentum"; }
 
+const char* to_string(Globalization g) {
+  return g == Globalization::NewtonArmijo ? "newton-armijo" : "levenberg-marquardt";
+}
+
+Globalization parse_globalization(const std::string& name) {
+  if (name == "newton-armijo") return Globalization::NewtonArmijo;
+  if (name == "levenberg-marquardt") return Globalization::LevenbergMarquardt;
+  throw InvalidInput("globalization", "must be 'newton-armijo' or 'levenberg-marquardt' (got '" + name + "')");
+}
+
 Merit parse_merit(const std::string& name) {
   if (name == "velocity") return Merit::Velocity;
   if (name == "momentum") return Merit::Momentum;
@@ -391,7 +401,8 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
   S.system = Model::name();
   S.form = o.form;
   S.h = o.h;
-  S.decomposition = o.decomposition && Model::has_symmetry;
+  S.globalization = o.globalization;
+  S.decomposition = o.decomposition && Model::has_symmetry && o.globalization == Globalization::NewtonArmijo;
 
   std::unique_ptr<Flow> flow;
   VecS lambda = VecS::Zero();
@@ -436,6 +447,7 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
   newton.armijo = o.armijo;
   newton.tolerance = o.tolerance;
   newton.polish_iterations = o.polish_iterations;
+  newton.levenberg_marquardt = o.globalization == Globalization::LevenbergMarquardt;
   newton.start = start;
   // Merit of the line search: |diag(weights) r|; the convergence test is always on the violation
   // |r| (velocity coordinates). Momentum weights measure the angular and linear velocity errors

@@ -92,6 +92,16 @@ const char* to_string(Merit m);
 /// Parses "velocity" or "momentum"; throws InvalidInput("merit", ...).
 Merit parse_merit(const std::string& name);
 
+/// Globalization of the shooting's Newton iteration. NewtonArmijo: the paper's (Newton direction,
+/// Armijo backtracking on the merit). LevenbergMarquardt: damped Gauss-Newton steps
+/// (J^T J + mu diag(J^T J)) d = -J^T r on the merit's weighted residual, mu adapted from the ratio
+/// of actual to predicted reduction (Madsen, Nielsen, Tingleff 2004, sec. 3.2); it uses the full
+/// system (no symmetry decomposition: a rank-deficient J is regularized by the damping).
+enum class Globalization { NewtonArmijo, LevenbergMarquardt };
+const char* to_string(Globalization g);
+/// Parses "newton-armijo" or "levenberg-marquardt"; throws InvalidInput("globalization", ...).
+Globalization parse_globalization(const std::string& name);
+
 struct ShootingOptions {
   LgviForm form = LgviForm::Symmetric;
   double h = 1e-3;                     ///< t_final / h must be an integer (to 1e-9 relative)
@@ -100,8 +110,9 @@ struct ShootingOptions {
   /// Symmetry decomposition (systems with a symmetry): invert the shape block only.
   bool decomposition = true;
   Merit merit = Merit::Velocity;
+  Globalization globalization = Globalization::NewtonArmijo;
   int max_iterations = 100;
-  int max_backtracks = 30;     ///< step halvings per outer iteration (Kelley's maxarm is 20)
+  int max_backtracks = 30;     ///< step halvings (Levenberg-Marquardt: rejected steps) per outer iteration
   double armijo = 1e-4;        ///< sufficient decrease |r(l + t d)| <= (1 - armijo t) |r(l)|
   double tolerance = 1e-12;    ///< on the violation
   /// After reaching the tolerance, up to this many more full Newton steps, kept while they lower
@@ -134,6 +145,7 @@ struct ShootingSummary {
   double h = 0.0;
   std::size_t steps = 0;
   bool decomposition = false;  ///< whether it was used
+  Globalization globalization = Globalization::NewtonArmijo;
   int iterations = 0;          ///< outer (Newton) iterations
   int inner_iterations = 0;    ///< backtracking trials
   int sweeps = 0;

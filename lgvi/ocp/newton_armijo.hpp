@@ -41,6 +41,9 @@ struct NewtonArmijoOptions {
   double armijo = 1e-4;      ///< sufficient decrease merit(r(l + t d)) <= (1 - armijo t) merit(r(l))
   double tolerance = 1e-12;  ///< on the violation |r|
   int polish_iterations = 3;
+  /// Levenberg-Marquardt steps on the weighted residual instead of Newton-Armijo (Globalization);
+  /// max_backtracks then bounds the rejected steps per outer iteration.
+  bool levenberg_marquardt = false;
   /// Merit of the line search |weights r| and the weighting of the Newton system (jacobian,
   /// residual and D alike); none: |r| and the unweighted system. The convergence test is always
   /// on the violation |r|.
@@ -95,6 +98,10 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
   }
 
   int polish_left = -1;  // -1: not polishing yet
+  // Levenberg-Marquardt damping mu (relative to diag(J^T J), Marquardt's scaling, so invariant
+  // under rescaling lambda_0's entries: the dumbbell's rod-axis inertia makes them differ by
+  // orders of magnitude) and its growth factor nu; mu_0 = 1e-3 (MNT's tau).
+  double lm_mu = 1e-3, lm_nu = 2.0;
   for (int it = 0;; ++it) {
     IterationRecord rec;
     rec.iteration = it;
@@ -157,7 +164,42 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
     double t = 1.0;
     bool accepted = false;
     const int max_trials = polishing ? 1 : o.max_backtracks + 1;
-    for (int b = 0; b < max_trials; ++b) {
+    if (o.levenberg_marquardt && !polishing) {
+      // Trust region by damping: (A + mu Dg) d = -g, A = J^T J, g = J^T r, Dg = diag(A); accept
+      // when the actual reduction of |r|^2/2 is a positive fraction of the model's
+      // (pred = d^T (mu Dg d - g) / 2); mu shrinks by max(1/3, 1 - (2 rho - 1)^3) after a
+      // success, grows by nu (doubling) after a failure.
+      const Mat A = jac.transpose() * jac;
+      const Vec g = jac.transpose() * r;
+      const Vec Dg = A.diagonal().cwiseMax(1e-30 * A.diagonal().maxCoeff());
+      for (int b = 0; b < max_trials; ++b) {
+        Mat damped = A;
+        damped.diagonal() += lm_mu * Dg;
+        const Vec d = damped.ldlt().solve(-g);
+        rec.step_norm = d.norm();
+        const Vec candidate = lambda + d;
+        ++S.sweeps;
+        if (b > 0) ++S.inner_iterations;
+        rec.backtracks = b;
+        double rho = -1.0;
+        if (d.allFinite() && problem.evaluate(candidate, false, trial)) {
+          const double predicted = 0.5 * d.dot(lm_mu * Dg.cwiseProduct(d) - g);
+          const Vec rt = weighted(trial.residual);
+          const double actual = 0.5 * (r.squaredNorm() - rt.squaredNorm());
+          rho = predicted > 0.0 ? actual / predicted : -1.0;
+        }
+        if (rho > 1e-4) {
+          lambda = candidate;
+          accepted = true;
+          lm_mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+          lm_nu = 2.0;
+          break;
+        }
+        lm_mu *= lm_nu;
+        lm_nu *= 2.0;
+      }
+    }
+    for (int b = 0; b < (o.levenberg_marquardt && !polishing ? 0 : max_trials); ++b) {
       const Vec candidate = lambda + t * direction;
       ++S.sweeps;
       if (b > 0) ++S.inner_iterations;
@@ -187,9 +229,10 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
         S.status = ShootingStatus::LineSearchFailed;
         char buf[400];
         std::snprintf(buf, sizeof buf,
-                      "no sufficient decrease of the violation %.3g at outer iteration %d after %d step "
-                      "halvings (last t = %.3g)",
-                      violation, it, o.max_backtracks, 2.0 * t);
+                      "no sufficient decrease of the violation %.3g at outer iteration %d after %d %s "
+                      "(last t = %.3g)",
+                      violation, it, o.max_backtracks,
+                      o.levenberg_marquardt ? "rejected damped steps" : "step halvings", 2.0 * t);
         S.message = buf;
       }
       break;

@@ -133,6 +133,28 @@ TEST(Shooting, DumbbellConverges) {
   expect_no_nan(S);
 }
 
+// Levenberg-Marquardt (Globalization) from the same zero guess: converges to the tolerance, with
+// no more outer iterations than Newton-Armijo needs (it avoids the Armijo search's many short
+// steps); it may reach another extremal of the necessary conditions, so only feasibility and
+// finiteness are asserted, and the iteration counts are printed.
+TEST(Shooting, DumbbellConvergesByLevenbergMarquardt) {
+  const DumbbellSpacecraft dumbbell = DumbbellSpacecraft::paper();
+  ShootingOptions o;
+  o.form = LgviForm::Printed;
+  o.h = 0.5 * M_PI / 100.0;
+  o.max_iterations = 300;
+  o.initial_multiplier = Eigen::VectorXd::Zero(12);
+  const ShootingSummary armijo = ocp::solve_indirect(dumbbell, TransferProblem::dumbbell_paper(), o).summary;
+  o.globalization = ocp::Globalization::LevenbergMarquardt;
+  const ShootingSummary S = ocp::solve_indirect(dumbbell, TransferProblem::dumbbell_paper(), o).summary;
+  print("dumbbell, printed, 100 steps, Levenberg-Marquardt", S);
+  ASSERT_TRUE(S.converged()) << S.brief();
+  EXPECT_LE(S.violation, kOcpViolation);
+  EXPECT_LE(S.iterations, armijo.iterations) << armijo.brief();
+  EXPECT_EQ(S.globalization, ocp::Globalization::LevenbergMarquardt);
+  expect_no_nan(S);
+}
+
 TEST(Shooting, BadInputEndsWithStatusAndMessage) {
   const Pendulum3D pendulum = Pendulum3D::paper();
   const TransferProblem problem = TransferProblem::pendulum_paper();
