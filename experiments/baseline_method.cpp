@@ -39,13 +39,16 @@ class BaselineMethod final : public Method {
       f.push_back({"rtol", *settings_.rtol});
       f.push_back({"atol", *settings_.atol});
     }
-    if (info_.name.rfind("cvode-", 0) == 0 || info_.name == "gsl-rk4imp" || info_.name == "gsl-msbdf") {
+    if (info_.uses_jacobian) {
       f.push_back({"jacobian", is_single_body(scene.model)
                                    ? std::string("analytic kinematics, central differences of the potential terms")
                                    : std::string("analytic chart kinematics, central differences of the momentum-form "
                                                  "rates and accelerations")});
     }
-    if (info_.name == "gsl-rk4imp") f.push_back({"newton_tolerance", settings_.newton_tolerance});
+    // The fixed-step implicit method iterates to newton_tolerance; the adaptive ones to their rtol.
+    if (info_.uses_jacobian && info_.step_control == StepControl::Fixed) {
+      f.push_back({"newton_tolerance", settings_.newton_tolerance});
+    }
     f.push_back({"sampling", sampling()});
     return f;
   }
@@ -162,12 +165,20 @@ class BaselineMethod final : public Method {
 
   /// How the output grid is sampled (CSV metadata "sampling").
   std::string sampling() const {
-    if (info_.step_control == StepControl::Fixed) return "every output_every-th step of h";
-    const std::string& n = info_.name;
-    const char* how = n.rfind("cvode-", 0) == 0 ? "CVODE's interpolating polynomial (CVodeGetDky)"
-                      : n == "odeint-dopri5" || n == "odeint-bs"
-                          ? "odeint's dense output"
-                          : "the quintic Hermite interpolant of the accepted steps (y, f, y'' at their ends)";
+    const char* how = "";
+    switch (info_.output) {
+      case baselines::OutputInterpolation::FixedGrid:
+        return "every output_every-th step of h";
+      case baselines::OutputInterpolation::Cvode:
+        how = "CVODE's interpolating polynomial (CVodeGetDky)";
+        break;
+      case baselines::OutputInterpolation::DenseOutput:
+        how = "odeint's dense output";
+        break;
+      case baselines::OutputInterpolation::Hermite:
+        how = "the quintic Hermite interpolant of the accepted steps (y, f, y'' at their ends)";
+        break;
+    }
     return std::string("output grid interpolated by ") + how + "; the steps do not depend on it";
   }
 
@@ -198,10 +209,9 @@ class ModelProbe final : public baselines::Ode {
   bool renormalizes_;
 };
 
-}  // namespace
-
-std::unique_ptr<Method> make_baseline_method(const std::string& name, const MethodOptions& options) {
-  const baselines::SolverInfo& info = baselines::solver_info(name);
+/// The baseline `info` with options: a coordinate model (required), tolerances (adaptive only).
+std::unique_ptr<Method> make_baseline(const baselines::SolverInfo& info, const MethodOptions& options) {
+  const std::string& name = info.name;
   if (options.rotation_update) throw InvalidInput("rotation_update", name + " has no rotation update (LGVI only)");
   if (!options.model) {
     std::string known;
@@ -217,6 +227,29 @@ std::unique_ptr<Method> make_baseline_method(const std::string& name, const Meth
   settings = baselines::resolve_settings(info, settings, probe);
   if (info.step_control == StepControl::Fixed) settings.h.reset();
   return std::make_unique<BaselineMethod>(info, model, settings);
+}
+
+}  // namespace
+
+MethodInfo baseline_method_info(const baselines::SolverInfo& solver) {
+  std::vector<CoordinateModel> models;
+  for (const std::string& m : baselines::coordinate_model_names()) {
+    const CoordinateModel model = baselines::parse_coordinate_model(m);
+    // Renormalizing between steps needs a post-step hook (resolve_settings rejects it otherwise).
+    if (model == CoordinateModel::QuaternionRenormalized && !solver.post_step_hook) continue;
+    models.push_back(model);
+  }
+  return {solver.name,
+          MethodFamily::Baseline,
+          solver.order,
+          static_cast<std::size_t>(solver.stages),
+          solver.step_control,
+          solver.uses_jacobian,
+          models,
+          true,
+          false,
+          solver.name,
+          [&solver](const MethodOptions& options) { return make_baseline(solver, options); }};
 }
 
 }  // namespace lgvi::experiments

@@ -19,7 +19,6 @@ namespace lgvi::experiments {
 namespace {
 
 constexpr const char* kComposedPrefix = "lgvi-";
-constexpr const char* kSchemes[] = {"yoshida4", "suzuki4", "yoshida6", "kahan-li6"};
 
 class LgviMethod final : public Method {
  public:
@@ -150,38 +149,36 @@ class LgviMethod final : public Method {
   std::optional<CompositionScheme> scheme_;
 };
 
-}  // namespace
-
-std::vector<std::string> method_names() {
-  std::vector<std::string> names = {"lgvi"};
-  for (const char* scheme : kSchemes) names.push_back(kComposedPrefix + std::string(scheme));
-  for (const std::string& n : baselines::solver_names()) names.push_back(n);
-  return names;
+/// The LGVI, composed with `scheme` when set. It takes no coordinate model and no tolerances (h
+/// comes from the scene).
+std::unique_ptr<Method> make_lgvi(std::optional<CompositionScheme> scheme, const MethodOptions& options) {
+  if (options.model) throw InvalidInput("model", "the LGVI works on SO(3) itself: it takes no coordinate model");
+  if (options.rtol || options.atol) {
+    throw InvalidInput(options.rtol ? "rtol" : "atol", "the LGVI is a fixed-step method (h from the scene)");
+  }
+  return std::make_unique<LgviMethod>(options.rotation_update.value_or(RotationUpdateOptions{}), scheme);
 }
 
-std::unique_ptr<Method> make_method(const std::string& name) { return make_method(name, MethodOptions{}); }
+}  // namespace
 
-std::unique_ptr<Method> make_method(const std::string& name, const MethodOptions& options) {
-  const bool composed = name.starts_with(kComposedPrefix);
-  if (name == "lgvi" || composed) {
-    if (options.model) throw InvalidInput("model", "the LGVI works on SO(3) itself: it takes no coordinate model");
-    if (options.rtol || options.atol) {
-      throw InvalidInput(options.rtol ? "rtol" : "atol", "the LGVI is a fixed-step method (h from the scene)");
-    }
-    const RotationUpdateOptions rotation = options.rotation_update.value_or(RotationUpdateOptions{});
-    if (!composed) return std::make_unique<LgviMethod>(rotation);
-    for (const char* scheme : kSchemes) {
-      if (name.substr(std::string(kComposedPrefix).size()) == scheme) {
-        return std::make_unique<LgviMethod>(rotation, composition_scheme(scheme));
-      }
-    }
-  }
-  for (const std::string& n : baselines::solver_names()) {
-    if (n == name) return make_baseline_method(name, options);
-  }
-  std::string known;
-  for (const std::string& n : method_names()) known += (known.empty() ? "" : ", ") + n;
-  throw InvalidInput("method", "unknown method '" + name + "' (known: " + known + ")");
+MethodInfo lgvi_method_info() {
+  return {"lgvi", MethodFamily::Lgvi, 2, 1, baselines::StepControl::Fixed, false, {}, false, true, "LGVI order 2",
+          [](const MethodOptions& options) { return make_lgvi(std::nullopt, options); }};
+}
+
+MethodInfo composed_lgvi_method_info(const char* scheme) {
+  const CompositionScheme s = composition_scheme(scheme);
+  return {kComposedPrefix + std::string(s.name),
+          MethodFamily::ComposedLgvi,
+          s.order,
+          s.gammas.size(),
+          baselines::StepControl::Fixed,
+          false,
+          {},
+          false,
+          false,
+          "LGVI order " + std::to_string(s.order) + " (" + s.name + ")",
+          [s](const MethodOptions& options) { return make_lgvi(s, options); }};
 }
 
 }  // namespace lgvi::experiments

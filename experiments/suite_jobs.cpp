@@ -6,7 +6,6 @@
 #include <stdexcept>
 
 #include "experiments/simulate.hpp"
-#include "lgvi/composition.hpp"
 
 namespace lgvi::experiments {
 
@@ -26,13 +25,6 @@ std::string spec_description(const SimulateSpec& spec) {
   if (spec.options.rtol) d += ", rtol = " + shortest(*spec.options.rtol);
   if (spec.overrides.h && !spec.options.rtol) d += ", h = " + shortest(*spec.overrides.h);
   return d;
-}
-
-/// Substeps of an LGVI method per step: the composition's stages, 1 for the plain LGVI.
-std::size_t lgvi_stages(const std::string& method) {
-  if (method == "lgvi") return 1;
-  if (method.starts_with("lgvi-")) return composition_scheme(method.substr(5)).gammas.size();
-  return 0;
 }
 
 /// |Omega0| of the scene (the largest body's, for two bodies).
@@ -141,7 +133,8 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
     return {false, "rejected-input", e.what(), {{"variant", spec_.edit ? spec_.edit->description : std::string()}}};
   }
   const Scene& scene = *loaded;
-  const std::unique_ptr<Method> method = make_method(spec_.method, spec_.options);
+  const MethodInfo& kind = method_info(spec_.method);
+  const std::unique_ptr<Method> method = kind.make(spec_.options);
   SimulateOptions options{ctx.out_dir / (ctx.case_id + ".csv"), ctx.command_line, {}};
   const std::string variant = spec_.edit ? spec_.edit->description : std::string();
   if (!variant.empty()) options.extra_metadata.push_back({"variant", variant});
@@ -157,10 +150,9 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
   out.status = to_string(r.stats.status);
   out.detail = r.stats.brief();
   out.fields = r.to_fields();
-  const std::size_t stages = lgvi_stages(spec_.method);
   // The integration's own evaluations: without those spent on interpolating output times.
-  const std::size_t evaluations =
-      stages > 0 ? r.stats.steps * stages : r.stats.rhs_evaluations - r.stats.output_rhs_evaluations;
+  const std::size_t evaluations = kind.counts_evaluations ? r.stats.rhs_evaluations - r.stats.output_rhs_evaluations
+                                                          : r.stats.steps * kind.stages;
   out.fields.push_back({"variant", variant});
   out.fields.push_back({"h_omega", scene.horizon.h * initial_rate(scene.model)});
   out.fields.push_back({"evaluations", static_cast<std::int64_t>(evaluations)});

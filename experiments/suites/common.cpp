@@ -7,23 +7,14 @@
 #include "baselines/solver.hpp"
 #include "experiments/atomic_file.hpp"
 #include "experiments/plot.hpp"
-#include "lgvi/composition.hpp"
 
 namespace lgvi::experiments::suites {
 
 namespace fs = std::filesystem;
 
-bool MethodSpec::fixed_step() const {
-  return is_lgvi() || baselines::solver_info(method).step_control == baselines::StepControl::Fixed;
-}
-
 std::string MethodSpec::label() const {
-  if (method == "lgvi") return "LGVI order 2";
-  if (is_lgvi()) {
-    const std::string scheme = method.substr(5);
-    return "LGVI order " + std::to_string(composition_scheme(scheme).order) + " (" + scheme + ")";
-  }
-  return method + " (" + model.value_or("?") + ")";
+  if (info->on_group()) return info->legend;
+  return info->legend + " (" + model.value_or("?") + ")";
 }
 
 std::string MethodSpec::id() const { return model ? method + "-" + *model : method; }
@@ -50,10 +41,9 @@ std::vector<MethodSpec> long_run_methods(bool quick) {
     }
     return m;
   }
-  for (const baselines::SolverInfo& info : baselines::solver_list()) {
-    for (const std::string& model : baselines::coordinate_model_names()) {
-      if (model == "quaternion-renormalized" && !info.post_step_hook) continue;
-      m.push_back({info.name, model, std::nullopt});
+  for (const MethodInfo& info : method_registry()) {
+    for (const baselines::CoordinateModel model : info.models) {
+      m.push_back({info.name, std::string(baselines::to_string(model)), std::nullopt});
     }
   }
   return m;
