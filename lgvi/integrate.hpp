@@ -9,6 +9,7 @@
 #include <utility>
 #include <algorithm>
 
+#include "lgvi/flow_map.hpp"
 #include "lgvi/rotation_update.hpp"
 
 namespace lgvi {
@@ -60,7 +61,7 @@ struct Stats {
 /// as observer(k, t_k, state, summary) for k = 0 (summary of a default, converged solve) and
 /// after every step; returning false stops the run (status ObserverStopped).
 /// Stops at the first failed rotation update, leaving `state` at the last good step.
-template <class Integrator, class ControlFn, class Observer>
+template <FlowMap Integrator, class ControlFn, class Observer>
 Stats integrate(const Integrator& lgvi, typename Integrator::State& state, double t0, double h,
                 std::size_t steps, ControlFn&& control, Observer&& observer) {
   using Clock = std::chrono::steady_clock;

@@ -110,4 +110,7 @@ class ConnectedBodiesLgvi {
   GroupNewtonOptions options_;
 };
 
+static_assert(FlowMap<CartPendulumLgvi>);
+static_assert(FlowMap<ConnectedBodiesLgvi>);
+
 }  // namespace lgvi
