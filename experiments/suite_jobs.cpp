@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "experiments/simulate.hpp"
+#include "experiments/system_bindings.hpp"
 
 namespace lgvi::experiments {
 
@@ -29,21 +30,7 @@ std::string spec_description(const SimulateSpec& spec) {
 
 /// |Omega0| of the scene (the largest body's, for two bodies).
 double initial_rate(const Model& model) {
-  return std::visit(
-      [](const auto& m) -> double {
-        using M = std::decay_t<decltype(m)>;
-        if constexpr (std::is_same_v<M, ConnectedBodiesModel>) {
-          return std::max(m.initial.Omega1.norm(), m.initial.Omega2.norm());
-        } else {
-          return m.initial.Omega.norm();
-        }
-      },
-      model);
-}
-
-double relative(const Vec3& a, const Vec3& ref) {
-  const double n = ref.norm();
-  return n > 0.0 ? (a - ref).norm() / n : (a - ref).norm();
+  return visit_binding(model, [](auto binding, const auto& m) { return decltype(binding)::initial_rate(m); });
 }
 
 }  // namespace
@@ -104,14 +91,7 @@ Sample ReferenceRun::sample_at(double t, const fs::path& scenes_dir) const {
 
 double final_state_error(const Model& model, const Sample& s, const Sample& ref) {
   if (std::abs(s.t - ref.t) > 1e-9 * std::max(1.0, std::abs(ref.t))) return std::numeric_limits<double>::quiet_NaN();
-  double e = std::max((s.R - ref.R).norm(), relative(s.Omega, ref.Omega));
-  if (std::holds_alternative<ConnectedBodiesModel>(model)) {
-    e = std::max({e, (s.R2 - ref.R2).norm(), relative(s.Omega2, ref.Omega2)});
-  }
-  if (std::holds_alternative<DumbbellModel>(model) || std::holds_alternative<CartPendulumModel>(model)) {
-    e = std::max({e, relative(s.x, ref.x), relative(s.v, ref.v)});
-  }
-  return e;
+  return visit_binding(model, [&](auto binding, const auto&) { return decltype(binding)::final_state_error(s, ref); });
 }
 
 SimulateJob::SimulateJob(SimulateSpec spec, std::shared_ptr<const ReferenceRun> reference)

@@ -27,6 +27,7 @@
 #include "experiments/suite.hpp"
 #include "experiments/suite_jobs.hpp"
 #include "experiments/suites/common.hpp"
+#include "experiments/system_bindings.hpp"
 #include "experiments/validate.hpp"
 
 namespace lgvi::experiments {
@@ -199,7 +200,7 @@ void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
 // recorded into the diagnostics. A quantity a method keeps to round-off (the LGVI's momentum
 // maps and orthogonality, a renormalized quaternion's norm) is gated as round-off with the
 // floor eps sqrt(steps) (a random walk of one rounding per step); the rest as truncation.
-// Controls are dropped (only the connected bodies' scene has one): its work changes the energy
+// Controls are dropped (each system's binding; only the connected bodies' scene has one): its work changes the energy
 // by 10-60x the initial energy over the horizon, so an "energy error" would measure the control
 // along a chaotic trajectory, not the integrator, and move with every round-off change.
 
@@ -228,7 +229,7 @@ void conservation_metrics(const ValidateOptions& options, std::vector<Metric>& o
     for (const MethodUnderTest& mut : conservation_methods()) {
       const std::unique_ptr<Method> method = make(mut, options);
       Scene scene = scene_with(options, scene_name, h, h * static_cast<double>(steps), 1, mut.form);
-      if (auto* bodies = std::get_if<ConnectedBodiesModel>(&scene.model)) bodies->control.reset();
+      visit_binding(scene.model, [](auto binding, auto& m) { decltype(binding)::drop_controls(m); });
       const Run r = run_scene(scene, *method);
       const Diagnostics& d = r.diagnostics;
       const double nan = std::numeric_limits<double>::quiet_NaN();

@@ -7,6 +7,7 @@
 #include "baselines/solver.hpp"
 #include "experiments/atomic_file.hpp"
 #include "experiments/plot.hpp"
+#include "experiments/system_bindings.hpp"
 
 namespace lgvi::experiments::suites {
 
@@ -87,16 +88,8 @@ SuiteCase simulate_case(const std::string& id, const std::string& group, Simulat
 }
 
 SystemLabels system_labels(const std::string& system) {
-  if (system == "dumbbell") {
-    return {"time [normalized: orbit period 2π]", "|E - E_0| [normalized]",
-            "|H - H_0| [normalized],  H = x × m v + R J Ω"};
-  }
-  if (system == "cart-pendulum") {
-    return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]"};
-  }
-  if (system == "connected-bodies") return {"time [s]", "|E - E_0| [J]", "|R_1 Π_1 + R_2 Π_2 - (...)_0| [kg m^2/s]"};
-  if (system == "pendulum") return {"time [s]", "|E - E_0| [J]", "|e_3^T R J Ω - (e_3^T R J Ω)_0| [kg m^2/s]"};
-  return {"time [s]", "|E - E_0| [J]", "|R J Ω - (R J Ω)_0| [kg m^2/s]"};
+  // A row without a known system (no run): the free body's SI labels.
+  return system_labels_of(system).value_or(SystemBinding<FreeBodyModel>::labels());
 }
 
 namespace {
