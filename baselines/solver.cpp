@@ -13,16 +13,22 @@ namespace lgvi::baselines {
 
 const std::vector<SolverInfo>& solver_list() {
   static const std::vector<SolverInfo> list = {
-      {"cvode-adams", StepControl::Adaptive, false, "SUNDIALS CVODE Adams-Moulton (orders 1-12), Newton + dense LU"},
-      {"cvode-bdf", StepControl::Adaptive, true, "SUNDIALS CVODE BDF (orders 1-5), Newton + dense LU"},
-      {"odeint-rk4", StepControl::Fixed, true, "Boost.Odeint classic Runge-Kutta 4, fixed step"},
-      {"odeint-dopri5", StepControl::Adaptive, true, "Boost.Odeint Dormand-Prince 5(4), dense output"},
+      {"cvode-adams", StepControl::Adaptive, false, "SUNDIALS CVODE Adams-Moulton (orders 1-12), Newton + dense LU", 0, 0,
+       true, OutputInterpolation::Cvode},
+      {"cvode-bdf", StepControl::Adaptive, true, "SUNDIALS CVODE BDF (orders 1-5), Newton + dense LU", 0, 0, true,
+       OutputInterpolation::Cvode},
+      {"odeint-rk4", StepControl::Fixed, true, "Boost.Odeint classic Runge-Kutta 4, fixed step", 4, 4, false,
+       OutputInterpolation::FixedGrid},
+      {"odeint-dopri5", StepControl::Adaptive, true, "Boost.Odeint Dormand-Prince 5(4), dense output", 0, 0, false,
+       OutputInterpolation::DenseOutput},
       {"odeint-rkf78", StepControl::Adaptive, true, "Boost.Odeint Runge-Kutta-Fehlberg 7(8)"},
-      {"odeint-bs", StepControl::Adaptive, true, "Boost.Odeint Bulirsch-Stoer, dense output"},
+      {"odeint-bs", StepControl::Adaptive, true, "Boost.Odeint Bulirsch-Stoer, dense output", 0, 0, false,
+       OutputInterpolation::DenseOutput},
       {"gsl-rk8pd", StepControl::Adaptive, true, "GSL odeiv2 Prince-Dormand 8(9)"},
       {"gsl-rk4imp", StepControl::Fixed, true,
-       "GSL odeiv2 Gauss-Legendre 2-stage (order 4, symplectic), fixed step, modified Newton"},
-      {"gsl-msbdf", StepControl::Adaptive, false, "GSL odeiv2 variable-order BDF (orders 1-5), Newton"},
+       "GSL odeiv2 Gauss-Legendre 2-stage (order 4, symplectic), fixed step, modified Newton", 4, 2, true,
+       OutputInterpolation::FixedGrid},
+      {"gsl-msbdf", StepControl::Adaptive, false, "GSL odeiv2 variable-order BDF (orders 1-5), Newton", 0, 0, true},
   };
   return list;
 }

@@ -74,11 +74,23 @@ namespace lgvi::baselines {
 
 enum class StepControl { Fixed, Adaptive };
 
+/// How a solver delivers the output times between its steps (see the top of this file).
+enum class OutputInterpolation {
+  FixedGrid,    ///< fixed step: the output times are steps
+  Cvode,        ///< CVODE's interpolating (Nordsieck) polynomial, CVodeGetDky
+  DenseOutput,  ///< the stepper's own dense output (odeint dopri5, Bulirsch-Stoer)
+  Hermite,      ///< the quintic Hermite interpolant of the accepted steps (solver_detail.hpp)
+};
+
 struct SolverInfo {
   std::string name;
   StepControl step_control;
   bool post_step_hook;  ///< can renormalize after every step without restarting a history
   std::string description;
+  int order = 0;        ///< nominal order of the fixed-step methods; 0: variable or error-controlled
+  int stages = 0;       ///< RHS stages per step of the fixed-step methods; 0: varies
+  bool uses_jacobian = false;  ///< Newton iterations on the model's Jacobian (implicit methods)
+  OutputInterpolation output = OutputInterpolation::Hermite;
 };
 
 /// Every baseline method, in the order of the list above.

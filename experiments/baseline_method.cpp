@@ -14,6 +14,7 @@
 #include "baselines/model.hpp"
 #include "baselines/solver.hpp"
 #include "experiments/method.hpp"
+#include "experiments/system_bindings.hpp"
 
 namespace lgvi::experiments {
 
@@ -39,13 +40,18 @@ class BaselineMethod final : public Method {
       f.push_back({"rtol", *settings_.rtol});
       f.push_back({"atol", *settings_.atol});
     }
-    if (info_.name.rfind("cvode-", 0) == 0 || info_.name == "gsl-rk4imp" || info_.name == "gsl-msbdf") {
-      f.push_back({"jacobian", is_single_body(scene.model)
+    if (info_.uses_jacobian) {
+      const bool single_body =
+          visit_binding(scene.model, [](auto binding, const auto&) { return decltype(binding)::single_body; });
+      f.push_back({"jacobian", single_body
                                    ? std::string("analytic kinematics, central differences of the potential terms")
                                    : std::string("analytic chart kinematics, central differences of the momentum-form "
                                                  "rates and accelerations")});
     }
-    if (info_.name == "gsl-rk4imp") f.push_back({"newton_tolerance", settings_.newton_tolerance});
+    // The fixed-step implicit method iterates to newton_tolerance; the adaptive ones to their rtol.
+    if (info_.uses_jacobian && info_.step_control == StepControl::Fixed) {
+      f.push_back({"newton_tolerance", settings_.newton_tolerance});
+    }
     f.push_back({"sampling", sampling()});
     return f;
   }
@@ -55,71 +61,36 @@ class BaselineMethod final : public Method {
   }
 
   Stats run(const Scene& scene, Recorder& recorder) const override {
-    return std::visit([&](const auto& m) { return run_system(scene, m, recorder); }, scene.model);
+    // The system's continuous mechanics and initial state come from its binding.
+    return visit_binding(scene.model, [&](auto binding, const auto& m) {
+      return decltype(binding)::run_baseline(m, [&](const auto& mech, const auto& R, const auto& Omega, const auto& x,
+                                                   const auto& v) {
+        return run_chart<decltype(binding)>(scene, mech, R, Omega, x, v, recorder);
+      });
+    });
   }
 
  private:
-  template <class SceneModel>
-  Stats run_system(const Scene& scene, const SceneModel& m, Recorder& recorder) const {
-    if constexpr (std::is_same_v<SceneModel, CartPendulumModel>) {
-      auto control = std::function<CartPendulum::Control(double)>{};
-      if (m.control) control = [&m](double t) -> Vec2 { return (*m.control)(t).template head<2>(); };
-      const baselines::CartPendulumMechanics mech(m.system, control);
-      return run_chart(scene, mech, {m.initial.R}, {m.initial.Omega}, m.initial.q, m.initial.q_dot, recorder);
-    } else if constexpr (std::is_same_v<SceneModel, ConnectedBodiesModel>) {
-      auto control = std::function<Vec3(double)>{};
-      if (m.control) control = [&m](double t) -> Vec3 { return (*m.control)(t); };
-      const baselines::ConnectedBodiesMechanics mech(m.system, control);
-      return run_chart(scene, mech, {m.initial.R1, m.initial.R2}, {m.initial.Omega1, m.initial.Omega2},
-                       baselines::Vector<0>(), baselines::Vector<0>(), recorder);
-    } else if constexpr (std::is_same_v<SceneModel, DumbbellModel>) {
-      auto control = std::function<DumbbellSpacecraft::Control(double)>{};
-      if (m.force_control || m.moment_control) {
-        control = [&m](double t) {
-          DumbbellSpacecraft::Control u;
-          if (m.force_control) u.force = (*m.force_control)(t);
-          if (m.moment_control) u.moment = (*m.moment_control)(t);
-          return u;
-        };
-      }
-      const baselines::DumbbellMechanics mech(m.system, control);
-      return run_chart(scene, mech, {m.initial.R}, {m.initial.Omega}, m.initial.x, m.initial.v, recorder);
-    } else if constexpr (!std::is_same_v<SceneModel, FreeBodyModel> && !std::is_same_v<SceneModel, PendulumModel>) {
-      // Any later system without a Mechanics type (baselines/mechanics.hpp; the multibody ones
-      // in baselines/README.md show what one needs).
-      // Thrown before anything is written: the CSV is committed only after run().
-      throw InvalidInput("method", info_.name + ": no continuous-time model of the " + std::string(SceneModel::name) +
-                                       " system yet (baselines cover free-body, pendulum, dumbbell, cart-pendulum, "
-                                       "connected-bodies)");
-    } else {
-      using System = std::decay_t<decltype(m.system)>;
-      auto control = std::function<Vec3(double)>{};
-      if (m.control) control = [&m](double t) -> Vec3 { return (*m.control)(t); };
-      const baselines::AttitudeMechanics<System> mech(m.system, control);
-      return run_chart(scene, mech, {m.initial.R}, {m.initial.Omega}, baselines::Vector<0>(), baselines::Vector<0>(),
-                       recorder);
-    }
-  }
-
-  template <class Mech>
+  template <class Binding, class Mech>
   Stats run_chart(const Scene& scene, const Mech& mech, const std::array<Mat3, Mech::bodies>& R,
                   const std::array<Vec3, Mech::bodies>& Omega,
                   const baselines::Vector<Mech::positions>& x, const baselines::Vector<Mech::positions>& v,
                   Recorder& recorder) const {
     switch (model_) {
       case CoordinateModel::Quaternion:
-        return run_model(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech), R, Omega, x, v, recorder);
+        return run_model<Binding>(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech), R, Omega, x, v, recorder);
       case CoordinateModel::QuaternionRenormalized:
-        return run_model(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech, true), R, Omega, x, v, recorder);
+        return run_model<Binding>(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech, true), R, Omega, x, v,
+                                  recorder);
       case CoordinateModel::Euler:
-        return run_model(scene, CoordinateOde<baselines::EulerChart, Mech>(mech), R, Omega, x, v, recorder);
+        return run_model<Binding>(scene, CoordinateOde<baselines::EulerChart, Mech>(mech), R, Omega, x, v, recorder);
       case CoordinateModel::Matrix:
-        return run_model(scene, CoordinateOde<baselines::MatrixChart, Mech>(mech), R, Omega, x, v, recorder);
+        return run_model<Binding>(scene, CoordinateOde<baselines::MatrixChart, Mech>(mech), R, Omega, x, v, recorder);
     }
     throw InvalidInput("model", "unknown model");
   }
 
-  template <class Ode, std::size_t N, int NX>
+  template <class Binding, class Ode, std::size_t N, int NX>
   Stats run_model(const Scene& scene, const Ode& ode, const std::array<Mat3, N>& R, const std::array<Vec3, N>& Omega,
                   const baselines::Vector<NX>& x, const baselines::Vector<NX>& v, Recorder& recorder) const {
     const Horizon& hz = scene.horizon;
@@ -138,19 +109,7 @@ class BaselineMethod final : public Method {
     const auto observer = [&](std::size_t i, double t, const double* y) {
       const auto d = ode.decode(y);
       sample.t = t;
-      sample.R = d.config.R[0];
-      sample.Omega = d.rates.Omega[0];
-      if constexpr (N == 2) {  // connected bodies
-        sample.R2 = d.config.R[1];
-        sample.Omega2 = d.rates.Omega[1];
-      }
-      if constexpr (NX == 3) {  // dumbbell
-        sample.x = d.config.x;
-        sample.v = d.rates.x_dot;
-      } else if constexpr (NX == 2) {  // cart (x, y, 0) and (x', y', 0), as the LGVI records it
-        sample.x << d.config.x, 0.0;
-        sample.v << d.rates.x_dot, 0.0;
-      }
+      Binding::from_chart(d, sample);
       // The worse of the bodies' quaternions.
       sample.quaternion_norm_error = *std::max_element(d.quaternion_norm_error.begin(), d.quaternion_norm_error.end());
       sample.newton_iterations = 0;
@@ -162,12 +121,20 @@ class BaselineMethod final : public Method {
 
   /// How the output grid is sampled (CSV metadata "sampling").
   std::string sampling() const {
-    if (info_.step_control == StepControl::Fixed) return "every output_every-th step of h";
-    const std::string& n = info_.name;
-    const char* how = n.rfind("cvode-", 0) == 0 ? "CVODE's interpolating polynomial (CVodeGetDky)"
-                      : n == "odeint-dopri5" || n == "odeint-bs"
-                          ? "odeint's dense output"
-                          : "the quintic Hermite interpolant of the accepted steps (y, f, y'' at their ends)";
+    const char* how = "";
+    switch (info_.output) {
+      case baselines::OutputInterpolation::FixedGrid:
+        return "every output_every-th step of h";
+      case baselines::OutputInterpolation::Cvode:
+        how = "CVODE's interpolating polynomial (CVodeGetDky)";
+        break;
+      case baselines::OutputInterpolation::DenseOutput:
+        how = "odeint's dense output";
+        break;
+      case baselines::OutputInterpolation::Hermite:
+        how = "the quintic Hermite interpolant of the accepted steps (y, f, y'' at their ends)";
+        break;
+    }
     return std::string("output grid interpolated by ") + how + "; the steps do not depend on it";
   }
 
@@ -198,10 +165,9 @@ class ModelProbe final : public baselines::Ode {
   bool renormalizes_;
 };
 
-}  // namespace
-
-std::unique_ptr<Method> make_baseline_method(const std::string& name, const MethodOptions& options) {
-  const baselines::SolverInfo& info = baselines::solver_info(name);
+/// The baseline `info` with options: a coordinate model (required), tolerances (adaptive only).
+std::unique_ptr<Method> make_baseline(const baselines::SolverInfo& info, const MethodOptions& options) {
+  const std::string& name = info.name;
   if (options.rotation_update) throw InvalidInput("rotation_update", name + " has no rotation update (LGVI only)");
   if (!options.model) {
     std::string known;
@@ -217,6 +183,29 @@ std::unique_ptr<Method> make_baseline_method(const std::string& name, const Meth
   settings = baselines::resolve_settings(info, settings, probe);
   if (info.step_control == StepControl::Fixed) settings.h.reset();
   return std::make_unique<BaselineMethod>(info, model, settings);
+}
+
+}  // namespace
+
+MethodInfo baseline_method_info(const baselines::SolverInfo& solver) {
+  std::vector<CoordinateModel> models;
+  for (const std::string& m : baselines::coordinate_model_names()) {
+    const CoordinateModel model = baselines::parse_coordinate_model(m);
+    // Renormalizing between steps needs a post-step hook (resolve_settings rejects it otherwise).
+    if (model == CoordinateModel::QuaternionRenormalized && !solver.post_step_hook) continue;
+    models.push_back(model);
+  }
+  return {solver.name,
+          MethodFamily::Baseline,
+          solver.order,
+          static_cast<std::size_t>(solver.stages),
+          solver.step_control,
+          solver.uses_jacobian,
+          models,
+          true,
+          false,
+          solver.name,
+          [&solver](const MethodOptions& options) { return make_baseline(solver, options); }};
 }
 
 }  // namespace lgvi::experiments

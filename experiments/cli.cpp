@@ -247,10 +247,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       if (model_opt->count() > 0) method_options.model = model_name;
       if (rtol_opt->count() > 0) method_options.rtol = rtol;
       if (atol_opt->count() > 0) method_options.atol = atol;
-      if (form_opt->count() > 0 && method_name != "lgvi") {
+      const MethodInfo& method_kind = method_info(method_name);
+      if (form_opt->count() > 0 && !method_kind.takes_form) {
         throw InvalidInput("--form", "applies to the LGVI only (--method lgvi; the composed lgvi-* are symmetric)");
       }
-      const std::unique_ptr<Method> method = make_method(method_name, method_options);
+      const std::unique_ptr<Method> method = method_kind.make(method_options);
       const Scene scene = load_scene(resolve_scene(scene_arg, scenes_dir), overrides);
       const fs::path csv = csv_out.empty() ? fs::path(scene.name + ".csv") : fs::path(csv_out);
       const RunSummary summary = simulate(scene, *method, {csv, command_line, {}});

@@ -1,6 +1,6 @@
-// The LGVI as a Method: AttitudeLgvi<System> for the free body and the pendulum, DumbbellLgvi
-// for the dumbbell, CartPendulumLgvi and ConnectedBodiesLgvi for the multibody systems, in the
-// scene's form (symmetric or printed).
+// The LGVI as a Method: the flow map of the scene's system (its binding's run_lgvi,
+// experiments/systems/: AttitudeLgvi, DumbbellLgvi, CartPendulumLgvi, ConnectedBodiesLgvi), in
+// the scene's form (symmetric or printed).
 // The composed LGVIs of order 4 and 6 (lgvi/composition.hpp) are the methods "lgvi-SCHEME"
 // (lgvi-yoshida4, lgvi-suzuki4, lgvi-yoshida6, lgvi-kahan-li6): the same flow map in its
 // symmetric form, composed with the scheme's substeps; they need a symmetric scene form.
@@ -10,6 +10,7 @@
 
 #include "baselines/solver.hpp"
 #include "experiments/method.hpp"
+#include "experiments/system_bindings.hpp"
 #include "lgvi/composition.hpp"
 #include "lgvi/lgvi.hpp"
 #include "lgvi/multibody_lgvi.hpp"
@@ -19,7 +20,6 @@ namespace lgvi::experiments {
 namespace {
 
 constexpr const char* kComposedPrefix = "lgvi-";
-constexpr const char* kSchemes[] = {"yoshida4", "suzuki4", "yoshida6", "kahan-li6"};
 
 class LgviMethod final : public Method {
  public:
@@ -44,7 +44,13 @@ class LgviMethod final : public Method {
       throw InvalidInput("form", name() + " composes the symmetric LGVI: scene '" + scene.name +
                                      "' asks for the " + to_string(scene.form) + " form");
     }
-    return std::visit([&](const auto& model) { return run_model(scene, model, recorder); }, scene.model);
+    // The system's flow map, initial state, control and sample come from its binding.
+    return visit_binding(scene.model, [&](auto binding, const auto& m) {
+      return decltype(binding)::run_lgvi(m, scene.form, options_, [&](const auto& lgvi, auto& state, auto&& control,
+                                                                    auto&& to_sample) {
+        return drive(lgvi, state, scene.horizon, control, to_sample, recorder);
+      });
+    });
   }
 
  private:
@@ -88,100 +94,40 @@ class LgviMethod final : public Method {
     return stats;
   }
 
-  template <class Model>
-  Stats run_model(const Scene& scene, const Model& m, Recorder& recorder) const {
-    const Horizon& hz = scene.horizon;
-    if constexpr (std::is_same_v<Model, DumbbellModel>) {
-      const DumbbellLgvi lgvi(m.system, scene.form, options_);
-      RigidBodyState state = lgvi.make_state(m.initial.R, m.initial.x, m.initial.Omega, m.initial.v);
-      const auto control = [&m](double t) {
-        DumbbellSpacecraft::Control u;
-        if (m.force_control) u.force = (*m.force_control)(t);
-        if (m.moment_control) u.moment = (*m.moment_control)(t);
-        return u;
-      };
-      const auto to_sample = [&](const RigidBodyState& s, Sample& sample) {
-        sample.R = s.R;
-        sample.Omega = lgvi.omega(s);
-        sample.x = s.x;
-        sample.v = s.v;
-      };
-      return drive(lgvi, state, hz, control, to_sample, recorder);
-    } else if constexpr (std::is_same_v<Model, CartPendulumModel>) {
-      const CartPendulumLgvi lgvi(m.system, scene.form);
-      CartPendulumState state = lgvi.make_state(m.initial.R, m.initial.q, m.initial.Omega, m.initial.q_dot);
-      const auto control = [&m](double t) -> Vec2 {
-        if (!m.control) return Vec2::Zero();
-        const Vec3 u = (*m.control)(t);
-        return Vec2(u.x(), u.y());
-      };
-      const auto to_sample = [&](const CartPendulumState& s, Sample& sample) {
-        Vec2 q_dot;
-        sample.R = s.R;
-        lgvi.velocities(s, sample.Omega, q_dot);
-        sample.x << s.q, 0.0;
-        sample.v << q_dot, 0.0;
-      };
-      return drive(lgvi, state, hz, control, to_sample, recorder);
-    } else if constexpr (std::is_same_v<Model, ConnectedBodiesModel>) {
-      const ConnectedBodiesLgvi lgvi(m.system, scene.form);
-      ConnectedBodiesState state = lgvi.make_state(m.initial.R1, m.initial.R2, m.initial.Omega1, m.initial.Omega2);
-      const auto control = [&m](double t) -> Vec3 { return m.control ? (*m.control)(t) : Vec3::Zero(); };
-      const auto to_sample = [&](const ConnectedBodiesState& s, Sample& sample) {
-        sample.R = s.R1;
-        sample.R2 = s.R2;
-        lgvi.velocities(s, sample.Omega, sample.Omega2);
-      };
-      return drive(lgvi, state, hz, control, to_sample, recorder);
-    } else {
-      using System = std::decay_t<decltype(m.system)>;
-      const AttitudeLgvi<System> lgvi(m.system, scene.form, options_);
-      AttitudeState state = lgvi.make_state(m.initial.R, m.initial.Omega);
-      const auto control = [&m](double t) -> Vec3 { return m.control ? (*m.control)(t) : Vec3::Zero(); };
-      const auto to_sample = [&](const AttitudeState& s, Sample& sample) {
-        sample.R = s.R;
-        sample.Omega = lgvi.omega(s);
-      };
-      return drive(lgvi, state, hz, control, to_sample, recorder);
-    }
-  }
-
   RotationUpdateOptions options_;
   std::optional<CompositionScheme> scheme_;
 };
 
-}  // namespace
-
-std::vector<std::string> method_names() {
-  std::vector<std::string> names = {"lgvi"};
-  for (const char* scheme : kSchemes) names.push_back(kComposedPrefix + std::string(scheme));
-  for (const std::string& n : baselines::solver_names()) names.push_back(n);
-  return names;
+/// The LGVI, composed with `scheme` when set. It takes no coordinate model and no tolerances (h
+/// comes from the scene).
+std::unique_ptr<Method> make_lgvi(std::optional<CompositionScheme> scheme, const MethodOptions& options) {
+  if (options.model) throw InvalidInput("model", "the LGVI works on SO(3) itself: it takes no coordinate model");
+  if (options.rtol || options.atol) {
+    throw InvalidInput(options.rtol ? "rtol" : "atol", "the LGVI is a fixed-step method (h from the scene)");
+  }
+  return std::make_unique<LgviMethod>(options.rotation_update.value_or(RotationUpdateOptions{}), scheme);
 }
 
-std::unique_ptr<Method> make_method(const std::string& name) { return make_method(name, MethodOptions{}); }
+}  // namespace
 
-std::unique_ptr<Method> make_method(const std::string& name, const MethodOptions& options) {
-  const bool composed = name.starts_with(kComposedPrefix);
-  if (name == "lgvi" || composed) {
-    if (options.model) throw InvalidInput("model", "the LGVI works on SO(3) itself: it takes no coordinate model");
-    if (options.rtol || options.atol) {
-      throw InvalidInput(options.rtol ? "rtol" : "atol", "the LGVI is a fixed-step method (h from the scene)");
-    }
-    const RotationUpdateOptions rotation = options.rotation_update.value_or(RotationUpdateOptions{});
-    if (!composed) return std::make_unique<LgviMethod>(rotation);
-    for (const char* scheme : kSchemes) {
-      if (name.substr(std::string(kComposedPrefix).size()) == scheme) {
-        return std::make_unique<LgviMethod>(rotation, composition_scheme(scheme));
-      }
-    }
-  }
-  for (const std::string& n : baselines::solver_names()) {
-    if (n == name) return make_baseline_method(name, options);
-  }
-  std::string known;
-  for (const std::string& n : method_names()) known += (known.empty() ? "" : ", ") + n;
-  throw InvalidInput("method", "unknown method '" + name + "' (known: " + known + ")");
+MethodInfo lgvi_method_info() {
+  return {"lgvi", MethodFamily::Lgvi, 2, 1, baselines::StepControl::Fixed, false, {}, false, true, "LGVI order 2",
+          [](const MethodOptions& options) { return make_lgvi(std::nullopt, options); }};
+}
+
+MethodInfo composed_lgvi_method_info(const char* scheme) {
+  const CompositionScheme s = composition_scheme(scheme);
+  return {kComposedPrefix + std::string(s.name),
+          MethodFamily::ComposedLgvi,
+          s.order,
+          s.gammas.size(),
+          baselines::StepControl::Fixed,
+          false,
+          {},
+          false,
+          false,
+          "LGVI order " + std::to_string(s.order) + " (" + s.name + ")",
+          [s](const MethodOptions& options) { return make_lgvi(s, options); }};
 }
 
 }  // namespace lgvi::experiments

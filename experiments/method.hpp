@@ -4,11 +4,14 @@
 // dispatch; inside run() everything is static.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "baselines/model.hpp"
+#include "baselines/solver.hpp"
 #include "experiments/fields.hpp"
 #include "experiments/recorder.hpp"
 #include "experiments/scene.hpp"
@@ -48,7 +51,41 @@ struct MethodOptions {
   std::optional<RotationUpdateOptions> rotation_update;
 };
 
-/// The method names make_method accepts: "lgvi" (order 2), the composed LGVIs "lgvi-yoshida4",
+/// What a method is, registered once (experiments/method_registry.cpp) and read by the CLI, the
+/// suites (rosters, labels, evaluation counts) and validate: nothing else looks at its name.
+enum class MethodFamily {
+  Lgvi,          ///< the LGVI flow map itself (symmetric or printed form)
+  ComposedLgvi,  ///< the symmetric LGVI composed to higher order (lgvi/composition.hpp)
+  Baseline,      ///< a continuous-time solver on a coordinate model (baselines/)
+};
+
+struct MethodInfo {
+  std::string name;  ///< CLI, file names, metadata: "lgvi-yoshida4", "cvode-bdf"
+  MethodFamily family;
+  int order;           ///< nominal order (symmetric form for the LGVIs); 0: error-controlled
+  std::size_t stages;  ///< force (LGVI) or RHS evaluations per step; 0: varies (adaptive)
+  baselines::StepControl step_control;
+  bool uses_jacobian;  ///< Newton iterations on the model's Jacobian (baselines)
+  /// Coordinate models it accepts (--model); empty: it works on the Lie group itself.
+  std::vector<baselines::CoordinateModel> models;
+  /// Evaluations are counted by the method (Stats::rhs_evaluations); otherwise steps x stages.
+  bool counts_evaluations;
+  /// Takes the scene's LGVI form (symmetric | printed); the composed LGVIs need the symmetric one.
+  bool takes_form;
+  std::string legend;  ///< figure legend: "LGVI order 4 (yoshida4)"; baselines: the name
+  /// Validates the options (see make_method) and builds the method.
+  std::function<std::unique_ptr<Method>(const MethodOptions& options)> make;
+
+  bool fixed_step() const { return step_control == baselines::StepControl::Fixed; }
+  bool on_group() const { return models.empty(); }
+};
+
+/// Every method, in registration order: the LGVI, the composed LGVIs, the baselines.
+const std::vector<MethodInfo>& method_registry();
+/// The registered method `name`. Throws InvalidInput("method", ...) naming the known ones.
+const MethodInfo& method_info(const std::string& name);
+
+/// The names of method_registry(): "lgvi" (order 2), the composed LGVIs "lgvi-yoshida4",
 /// "lgvi-suzuki4" (order 4), "lgvi-yoshida6", "lgvi-kahan-li6" (order 6; symmetric form only,
 /// lgvi/composition.hpp), then baselines::solver_names().
 std::vector<std::string> method_names();
@@ -59,10 +96,15 @@ std::unique_ptr<Method> make_method(const std::string& name);
 /// InvalidInput("method" | "model" | "rtol" | "atol", ...) for an unknown name or model, a
 /// baseline without a model, options the method does not take (the LGVI takes none; fixed-step
 /// baselines take no tolerances), non-positive tolerances, or a renormalized model on a solver
-/// without a post-step hook.
+/// without a post-step hook. Same as method_info(name).make(options).
 std::unique_ptr<Method> make_method(const std::string& name, const MethodOptions& options);
 
-/// Baseline method (experiments/baseline_method.cpp); `name` is one of baselines::solver_names().
-std::unique_ptr<Method> make_baseline_method(const std::string& name, const MethodOptions& options);
+// The registrations (one per method file; method_registry.cpp lists them).
+/// The LGVI (experiments/lgvi_method.cpp).
+MethodInfo lgvi_method_info();
+/// The LGVI composed with `scheme` (experiments/lgvi_method.cpp).
+MethodInfo composed_lgvi_method_info(const char* scheme);
+/// A baseline solver of baselines::solver_list() (experiments/baseline_method.cpp).
+MethodInfo baseline_method_info(const baselines::SolverInfo& solver);
 
 }  // namespace lgvi::experiments

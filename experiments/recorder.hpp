@@ -49,7 +49,8 @@ struct Diagnostics {
   double max_energy_error() const;
 };
 
-/// Which momentum map a system conserves, as named in columns and summaries.
+/// Which momentum map a system conserves, as named in columns and summaries (the system's
+/// binding, experiments/systems/).
 struct MomentumMap {
   const char* description;     ///< e.g. "spatial angular momentum R J Omega"
   std::vector<std::string> columns;

@@ -147,12 +147,6 @@ struct ConnectedBodiesModel {
 using Model = std::variant<FreeBodyModel, PendulumModel, DumbbellModel, CartPendulumModel,
                            ConnectedBodiesModel>;
 
-/// True for the systems with a single rigid body (no mass matrix to solve).
-inline bool is_single_body(const Model& model) {
-  return !std::holds_alternative<CartPendulumModel>(model) &&
-         !std::holds_alternative<ConnectedBodiesModel>(model);
-}
-
 /// "free-body", "pendulum", "dumbbell", "cart-pendulum" or "connected-bodies".
 const char* system_name(const Model& model);
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "experiments/simulate.hpp"
-#include "lgvi/composition.hpp"
+#include "experiments/system_bindings.hpp"
 
 namespace lgvi::experiments {
 
@@ -28,30 +28,9 @@ std::string spec_description(const SimulateSpec& spec) {
   return d;
 }
 
-/// Substeps of an LGVI method per step: the composition's stages, 1 for the plain LGVI.
-std::size_t lgvi_stages(const std::string& method) {
-  if (method == "lgvi") return 1;
-  if (method.starts_with("lgvi-")) return composition_scheme(method.substr(5)).gammas.size();
-  return 0;
-}
-
 /// |Omega0| of the scene (the largest body's, for two bodies).
 double initial_rate(const Model& model) {
-  return std::visit(
-      [](const auto& m) -> double {
-        using M = std::decay_t<decltype(m)>;
-        if constexpr (std::is_same_v<M, ConnectedBodiesModel>) {
-          return std::max(m.initial.Omega1.norm(), m.initial.Omega2.norm());
-        } else {
-          return m.initial.Omega.norm();
-        }
-      },
-      model);
-}
-
-double relative(const Vec3& a, const Vec3& ref) {
-  const double n = ref.norm();
-  return n > 0.0 ? (a - ref).norm() / n : (a - ref).norm();
+  return visit_binding(model, [](auto binding, const auto& m) { return decltype(binding)::initial_rate(m); });
 }
 
 }  // namespace
@@ -112,14 +91,7 @@ Sample ReferenceRun::sample_at(double t, const fs::path& scenes_dir) const {
 
 double final_state_error(const Model& model, const Sample& s, const Sample& ref) {
   if (std::abs(s.t - ref.t) > 1e-9 * std::max(1.0, std::abs(ref.t))) return std::numeric_limits<double>::quiet_NaN();
-  double e = std::max((s.R - ref.R).norm(), relative(s.Omega, ref.Omega));
-  if (std::holds_alternative<ConnectedBodiesModel>(model)) {
-    e = std::max({e, (s.R2 - ref.R2).norm(), relative(s.Omega2, ref.Omega2)});
-  }
-  if (std::holds_alternative<DumbbellModel>(model) || std::holds_alternative<CartPendulumModel>(model)) {
-    e = std::max({e, relative(s.x, ref.x), relative(s.v, ref.v)});
-  }
-  return e;
+  return visit_binding(model, [&](auto binding, const auto&) { return decltype(binding)::final_state_error(s, ref); });
 }
 
 SimulateJob::SimulateJob(SimulateSpec spec, std::shared_ptr<const ReferenceRun> reference)
@@ -141,7 +113,8 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
     return {false, "rejected-input", e.what(), {{"variant", spec_.edit ? spec_.edit->description : std::string()}}};
   }
   const Scene& scene = *loaded;
-  const std::unique_ptr<Method> method = make_method(spec_.method, spec_.options);
+  const MethodInfo& kind = method_info(spec_.method);
+  const std::unique_ptr<Method> method = kind.make(spec_.options);
   SimulateOptions options{ctx.out_dir / (ctx.case_id + ".csv"), ctx.command_line, {}};
   const std::string variant = spec_.edit ? spec_.edit->description : std::string();
   if (!variant.empty()) options.extra_metadata.push_back({"variant", variant});
@@ -157,10 +130,9 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
   out.status = to_string(r.stats.status);
   out.detail = r.stats.brief();
   out.fields = r.to_fields();
-  const std::size_t stages = lgvi_stages(spec_.method);
   // The integration's own evaluations: without those spent on interpolating output times.
-  const std::size_t evaluations =
-      stages > 0 ? r.stats.steps * stages : r.stats.rhs_evaluations - r.stats.output_rhs_evaluations;
+  const std::size_t evaluations = kind.counts_evaluations ? r.stats.rhs_evaluations - r.stats.output_rhs_evaluations
+                                                          : r.stats.steps * kind.stages;
   out.fields.push_back({"variant", variant});
   out.fields.push_back({"h_omega", scene.horizon.h * initial_rate(scene.model)});
   out.fields.push_back({"evaluations", static_cast<std::int64_t>(evaluations)});

@@ -27,6 +27,7 @@
 #include "experiments/suite.hpp"
 #include "experiments/suite_jobs.hpp"
 #include "experiments/suites/common.hpp"
+#include "experiments/system_bindings.hpp"
 #include "experiments/validate.hpp"
 
 namespace lgvi::experiments {
@@ -52,11 +53,14 @@ struct MethodUnderTest {
   std::string label;             ///< metric name component: "lgvi", "lgvi-printed", "odeint-rk4-quaternion"
   suites::MethodSpec spec;
   std::optional<LgviForm> form;  ///< LGVI form override
-  double order = 0.0;            ///< nominal order (fixed-step methods)
   /// Order metrics: multiple of the base step count. yoshida6's error constant is ~10^3 times
   /// kahan-li6's (its substeps reach 1.7 h against 0.4 h): it needs twice the steps to be
   /// in its asymptotic regime.
   std::size_t step_factor = 1;
+
+  /// Nominal order (fixed-step methods; 0 for the adaptive ones): the registered method's, 1 for
+  /// the printed LGVI form (its end-of-step impulse).
+  double order() const { return form == LgviForm::Printed ? 1.0 : static_cast<double>(spec.info->order); }
 };
 
 std::unique_ptr<Method> make(const MethodUnderTest& m, const ValidateOptions& options) {
@@ -132,15 +136,15 @@ std::size_t base_steps(double order, const char* scene) {
 
 std::vector<MethodUnderTest> order_methods() {
   return {
-      {"lgvi", {"lgvi"}, LgviForm::Symmetric, 2},
-      {"lgvi-printed", {"lgvi"}, LgviForm::Printed, 1},
-      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric, 4},
-      {"lgvi-suzuki4", {"lgvi-suzuki4"}, LgviForm::Symmetric, 4},
-      {"lgvi-yoshida6", {"lgvi-yoshida6"}, LgviForm::Symmetric, 6, 2},
-      {"lgvi-kahan-li6", {"lgvi-kahan-li6"}, LgviForm::Symmetric, 6},
-      {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}, 4},
-      {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}, 4},
-      {"gsl-rk4imp-quaternion", {"gsl-rk4imp", "quaternion"}, {}, 4},
+      {"lgvi", {"lgvi"}, LgviForm::Symmetric},
+      {"lgvi-printed", {"lgvi"}, LgviForm::Printed},
+      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric},
+      {"lgvi-suzuki4", {"lgvi-suzuki4"}, LgviForm::Symmetric},
+      {"lgvi-yoshida6", {"lgvi-yoshida6"}, LgviForm::Symmetric, 2},
+      {"lgvi-kahan-li6", {"lgvi-kahan-li6"}, LgviForm::Symmetric},
+      {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}},
+      {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}},
+      {"gsl-rk4imp-quaternion", {"gsl-rk4imp", "quaternion"}, {}},
   };
 }
 
@@ -149,13 +153,13 @@ void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
     for (const MethodUnderTest& mut : order_methods()) {
       const auto t0 = Clock::now();
       const std::unique_ptr<Method> method = make(mut, options);
-      const std::size_t n0 = base_steps(mut.order, os.scene) * mut.step_factor;
+      const std::size_t n0 = base_steps(mut.order(), os.scene) * mut.step_factor;
       // Nominal order: the printed form is first order where a potential or a control acts at
       // the step's end; without either (the free body and the cart scene have no control, the
       // free body no potential, the cart's potential is split in eq. 29 already) it is the
       // symmetric form.
       const bool printed_is_symmetric = std::string(os.scene) == "free-body" || std::string(os.scene) == "cart-pendulum";
-      const double nominal = mut.form == LgviForm::Printed && printed_is_symmetric ? 2.0 : mut.order;
+      const double nominal = mut.form == LgviForm::Printed && printed_is_symmetric ? 2.0 : mut.order();
       std::vector<Sample> finals;
       bool ok = true;
       for (int j = 0; j < 4 && ok; ++j) {
@@ -196,7 +200,7 @@ void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
 // recorded into the diagnostics. A quantity a method keeps to round-off (the LGVI's momentum
 // maps and orthogonality, a renormalized quaternion's norm) is gated as round-off with the
 // floor eps sqrt(steps) (a random walk of one rounding per step); the rest as truncation.
-// Controls are dropped (only the connected bodies' scene has one): its work changes the energy
+// Controls are dropped (each system's binding; only the connected bodies' scene has one): its work changes the energy
 // by 10-60x the initial energy over the horizon, so an "energy error" would measure the control
 // along a chaotic trajectory, not the integrator, and move with every round-off change.
 
@@ -205,15 +209,15 @@ constexpr const char* kConservationScenes[] = {"free-body", "pendulum", "dumbbel
 
 std::vector<MethodUnderTest> conservation_methods() {
   return {
-      {"lgvi", {"lgvi"}, LgviForm::Symmetric, 2},
-      {"lgvi-printed", {"lgvi"}, LgviForm::Printed, 1},
-      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric, 4},
-      {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}, 4},
-      {"odeint-rk4-quaternion-renormalized", {"odeint-rk4", "quaternion-renormalized"}, {}, 4},
-      {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}, 4},
-      {"cvode-bdf-quaternion-rtol1e-8", {"cvode-bdf", "quaternion", 1e-8}, {}, 0},
-      {"gsl-rk8pd-quaternion-rtol1e-8", {"gsl-rk8pd", "quaternion", 1e-8}, {}, 0},
-      {"odeint-dopri5-matrix-rtol1e-8", {"odeint-dopri5", "matrix", 1e-8}, {}, 0},
+      {"lgvi", {"lgvi"}, LgviForm::Symmetric},
+      {"lgvi-printed", {"lgvi"}, LgviForm::Printed},
+      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric},
+      {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}},
+      {"odeint-rk4-quaternion-renormalized", {"odeint-rk4", "quaternion-renormalized"}, {}},
+      {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}},
+      {"cvode-bdf-quaternion-rtol1e-8", {"cvode-bdf", "quaternion", 1e-8}, {}},
+      {"gsl-rk8pd-quaternion-rtol1e-8", {"gsl-rk8pd", "quaternion", 1e-8}, {}},
+      {"odeint-dopri5-matrix-rtol1e-8", {"odeint-dopri5", "matrix", 1e-8}, {}},
   };
 }
 
@@ -225,7 +229,7 @@ void conservation_metrics(const ValidateOptions& options, std::vector<Metric>& o
     for (const MethodUnderTest& mut : conservation_methods()) {
       const std::unique_ptr<Method> method = make(mut, options);
       Scene scene = scene_with(options, scene_name, h, h * static_cast<double>(steps), 1, mut.form);
-      if (auto* bodies = std::get_if<ConnectedBodiesModel>(&scene.model)) bodies->control.reset();
+      visit_binding(scene.model, [](auto binding, auto& m) { decltype(binding)::drop_controls(m); });
       const Run r = run_scene(scene, *method);
       const Diagnostics& d = r.diagnostics;
       const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -285,16 +289,16 @@ constexpr ExactScene kExactScenes[] = {{"free-body", 10.0, 50.0}, {"lagrange-top
 
 std::vector<MethodUnderTest> exact_methods() {
   return {
-      {"lgvi", {"lgvi"}, LgviForm::Symmetric, 2},
-      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric, 4},
-      {"lgvi-kahan-li6", {"lgvi-kahan-li6"}, LgviForm::Symmetric, 6},
-      {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}, 4},
-      {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}, 4},
-      {"gsl-rk4imp-quaternion", {"gsl-rk4imp", "quaternion"}, {}, 4},
-      {"cvode-bdf-quaternion-rtol1e-8", {"cvode-bdf", "quaternion", 1e-8}, {}, 0},
-      {"cvode-adams-quaternion-rtol1e-8", {"cvode-adams", "quaternion", 1e-8}, {}, 0},
-      {"gsl-rk8pd-quaternion-rtol1e-10", {"gsl-rk8pd", "quaternion", 1e-10}, {}, 0},
-      {"odeint-dopri5-matrix-rtol1e-8", {"odeint-dopri5", "matrix", 1e-8}, {}, 0},
+      {"lgvi", {"lgvi"}, LgviForm::Symmetric},
+      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric},
+      {"lgvi-kahan-li6", {"lgvi-kahan-li6"}, LgviForm::Symmetric},
+      {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}},
+      {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}},
+      {"gsl-rk4imp-quaternion", {"gsl-rk4imp", "quaternion"}, {}},
+      {"cvode-bdf-quaternion-rtol1e-8", {"cvode-bdf", "quaternion", 1e-8}, {}},
+      {"cvode-adams-quaternion-rtol1e-8", {"cvode-adams", "quaternion", 1e-8}, {}},
+      {"gsl-rk8pd-quaternion-rtol1e-10", {"gsl-rk8pd", "quaternion", 1e-10}, {}},
+      {"odeint-dopri5-matrix-rtol1e-8", {"odeint-dopri5", "matrix", 1e-8}, {}},
   };
 }
 

@@ -61,7 +61,7 @@ CompositionScheme composition_scheme(const std::string& name);
 /// step(in, h, u_k, u_k1, out) -> RotationUpdateSummary, in its symmetric form.
 /// Controls are sampled at the substep times through step_at (the integrate() driver uses it);
 /// `step` with end-point controls interpolates them linearly (second order in the control).
-template <class Base>
+template <FlowMap Base>
 class ComposedLgvi {
  public:
   using State = typename Base::State;

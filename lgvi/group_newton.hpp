@@ -155,9 +155,13 @@ inline Vec3 vee_of_skew_product(const Mat3& A, const Mat3& K) {
   return Vec3(x(2, 1) - x(1, 2), x(0, 2) - x(2, 0), x(1, 0) - x(0, 1));
 }
 
-/// d/dxi vee(F exp(hat xi) K - K exp(hat xi)^T F^T) at xi = 0 for symmetric K (F = I + A):
-/// F (tr(K F) I - K F) (from hat(xi) B + B^T hat(xi) = hat((tr B I - B) xi), B = K F).
-inline Mat3 rotation_update_jacobian(const Mat3& F, const Mat3& K) {
+/// J_G_xi: d/dxi vee(F exp(hat xi) K - K exp(hat xi)^T F^T) at xi = 0 for symmetric K (F = I +
+/// A), the Jacobian of the rotation update's residual G (eqs. 32, 40, 41) on a right
+/// perturbation of F: F (tr(K F) I - K F) (from hat(xi) B + B^T hat(xi) = hat((tr B I - B) xi),
+/// B = K F). In exact arithmetic it equals ocp::J_hPi_xi(F, K) (the same derivative, read as
+/// that of h Pi); the two keep their own product orders, which the solver's and the
+/// linearization's round-off depend on.
+inline Mat3 J_G_xi(const Mat3& F, const Mat3& K) {
   const Mat3 KF = K * F;
   return F * (KF.trace() * Mat3::Identity() - KF);
 }

@@ -9,6 +9,7 @@
 #include <utility>
 #include <algorithm>
 
+#include "lgvi/flow_map.hpp"
 #include "lgvi/rotation_update.hpp"
 
 namespace lgvi {
@@ -65,7 +66,7 @@ struct Stats {
 /// Stops at the first failed rotation update, or at the first step whose result has a
 /// non-finite entry (status NonFiniteState, failure_detail naming the part: the state's
 /// non_finite_part(), found by argument-dependent lookup), leaving `state` at the last good step.
-template <class Integrator, class ControlFn, class Observer>
+template <FlowMap Integrator, class ControlFn, class Observer>
 Stats integrate(const Integrator& lgvi, typename Integrator::State& state, double t0, double h,
                 std::size_t steps, ControlFn&& control, Observer&& observer) {
   using Clock = std::chrono::steady_clock;

@@ -4,8 +4,17 @@
 
 #include "lgvi/composition.hpp"
 #include "lgvi/integrate.hpp"
+#include "lgvi/systems/free_rigid_body.hpp"
+#include "lgvi/systems/pendulum.hpp"
 
 namespace lgvi {
+
+// Every LGVI, plain and composed, is a flow map the driver accepts.
+static_assert(FlowMap<AttitudeLgvi<FreeRigidBody>>);
+static_assert(FlowMap<AttitudeLgvi<Pendulum3D>>);
+static_assert(FlowMap<ComposedLgvi<AttitudeLgvi<FreeRigidBody>>>);
+static_assert(FlowMap<ComposedLgvi<AttitudeLgvi<Pendulum3D>>>);
+static_assert(FlowMap<ComposedLgvi<DumbbellLgvi>>);
 
 const char* to_string(LgviForm f) { return f == LgviForm::Symmetric ? "symmetric" : "printed"; }
 

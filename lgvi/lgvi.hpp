@@ -20,9 +20,11 @@
 
 #include <concepts>
 
+#include "lgvi/flow_map.hpp"
 #include "lgvi/rotation_update.hpp"
 #include "lgvi/so3.hpp"
 #include "lgvi/systems/dumbbell.hpp"
+#include "lgvi/systems/system.hpp"
 #include "lgvi/types.hpp"
 
 namespace lgvi {
@@ -43,7 +45,7 @@ inline ImpulseWeights impulse_weights(LgviForm form, double h) {
 
 /// A system whose configuration is R in SO(3): free rigid body, 3D pendulum.
 template <class S>
-concept AttitudeSystem = requires(const S& s, const Mat3& R, const typename S::Control& u) {
+concept AttitudeSystem = System<S> && requires(const S& s, const Mat3& R, const typename S::Control& u) {
   { s.inertia } -> std::convertible_to<Inertia>;
   { s.moment(R) } -> std::convertible_to<Vec3>;
   { s.control_moment(R, u) } -> std::convertible_to<Vec3>;
@@ -187,5 +189,7 @@ class DumbbellLgvi {
   LgviForm form_;
   RotationUpdateSolver solver_;
 };
+
+static_assert(FlowMap<DumbbellLgvi>);
 
 }  // namespace lgvi

@@ -18,7 +18,12 @@
 
 #include <Eigen/Cholesky>
 
+#include "lgvi/composition.hpp"
+
 namespace lgvi {
+
+static_assert(FlowMap<ComposedLgvi<CartPendulumLgvi>>);
+static_assert(FlowMap<ComposedLgvi<ConnectedBodiesLgvi>>);
 
 namespace {
 void require_rotation(const Mat3& R, const std::string& field) {
@@ -69,7 +74,7 @@ LGVI_FLATTEN RotationUpdateSummary CartPendulumLgvi::step(const State& in, doubl
   const Mat3 kappa_DP = kappa * D * P;
   auto jacobian = [&](const std::array<Mat3, 1>& A, Mat3& DG) {
     const Mat3 F = Mat3::Identity() + A[0];
-    DG = rotation_update_jacobian(F, Jd) + kappa_DP * F * D;
+    DG = J_G_xi(F, Jd) + kappa_DP * F * D;
   };
   // Warm start from the linearization (J + kappa hat(d) P hat(d)) f = b at F = I.
   const Mat3 J0 = S.inertia.J + kappa * D * P * D;
@@ -139,10 +144,10 @@ LGVI_FLATTEN RotationUpdateSummary ConnectedBodiesLgvi::step(const State& in, do
   const Mat3 mu_D1_R12 = mu * D1 * R12, mu_D2_R21 = mu * D2 * R12.transpose();
   auto jacobian = [&](const std::array<Mat3, 2>& A, Mat6x6& DG) {
     const Mat3 F1 = Mat3::Identity() + A[0], F2 = Mat3::Identity() + A[1];
-    DG.topLeftCorner<3, 3>() = rotation_update_jacobian(F1, K1);
+    DG.topLeftCorner<3, 3>() = J_G_xi(F1, K1);
     DG.topRightCorner<3, 3>() = mu_D1_R12 * F2 * D2;
     DG.bottomLeftCorner<3, 3>() = mu_D2_R21 * F1 * D1;
-    DG.bottomRightCorner<3, 3>() = rotation_update_jacobian(F2, K2);
+    DG.bottomRightCorner<3, 3>() = J_G_xi(F2, K2);
   };
   // Warm start: at F = I the equations linearize to the mass matrix of eq. 47 times xi = h Omega.
   Vec3 xi1, xi2;

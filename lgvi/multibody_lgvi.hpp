@@ -129,4 +129,7 @@ class ConnectedBodiesLgvi {
   GroupNewtonOptions options_;
 };
 
+static_assert(FlowMap<CartPendulumLgvi>);
+static_assert(FlowMap<ConnectedBodiesLgvi>);
+
 }  // namespace lgvi

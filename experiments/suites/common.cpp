@@ -7,23 +7,15 @@
 #include "baselines/solver.hpp"
 #include "experiments/atomic_file.hpp"
 #include "experiments/plot.hpp"
-#include "lgvi/composition.hpp"
+#include "experiments/system_bindings.hpp"
 
 namespace lgvi::experiments::suites {
 
 namespace fs = std::filesystem;
 
-bool MethodSpec::fixed_step() const {
-  return is_lgvi() || baselines::solver_info(method).step_control == baselines::StepControl::Fixed;
-}
-
 std::string MethodSpec::label() const {
-  if (method == "lgvi") return "LGVI order 2";
-  if (is_lgvi()) {
-    const std::string scheme = method.substr(5);
-    return "LGVI order " + std::to_string(composition_scheme(scheme).order) + " (" + scheme + ")";
-  }
-  return method + " (" + model.value_or("?") + ")";
+  if (info->on_group()) return info->legend;
+  return info->legend + " (" + model.value_or("?") + ")";
 }
 
 std::string MethodSpec::id() const { return model ? method + "-" + *model : method; }
@@ -50,10 +42,9 @@ std::vector<MethodSpec> long_run_methods(bool quick) {
     }
     return m;
   }
-  for (const baselines::SolverInfo& info : baselines::solver_list()) {
-    for (const std::string& model : baselines::coordinate_model_names()) {
-      if (model == "quaternion-renormalized" && !info.post_step_hook) continue;
-      m.push_back({info.name, model, std::nullopt});
+  for (const MethodInfo& info : method_registry()) {
+    for (const baselines::CoordinateModel model : info.models) {
+      m.push_back({info.name, std::string(baselines::to_string(model)), std::nullopt});
     }
   }
   return m;
@@ -97,16 +88,8 @@ SuiteCase simulate_case(const std::string& id, const std::string& group, Simulat
 }
 
 SystemLabels system_labels(const std::string& system) {
-  if (system == "dumbbell") {
-    return {"time [normalized: orbit period 2π]", "|E - E_0| [normalized]",
-            "|H - H_0| [normalized],  H = x × m v + R J Ω"};
-  }
-  if (system == "cart-pendulum") {
-    return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]"};
-  }
-  if (system == "connected-bodies") return {"time [s]", "|E - E_0| [J]", "|R_1 Π_1 + R_2 Π_2 - (...)_0| [kg m^2/s]"};
-  if (system == "pendulum") return {"time [s]", "|E - E_0| [J]", "|e_3^T R J Ω - (e_3^T R J Ω)_0| [kg m^2/s]"};
-  return {"time [s]", "|E - E_0| [J]", "|R J Ω - (R J Ω)_0| [kg m^2/s]"};
+  // A row without a known system (no run): the free body's SI labels.
+  return system_labels_of(system).value_or(SystemBinding<FreeBodyModel>::labels());
 }
 
 namespace {

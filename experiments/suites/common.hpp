@@ -9,21 +9,24 @@
 
 #include "experiments/suite.hpp"
 #include "experiments/suite_jobs.hpp"
+#include "experiments/system_binding.hpp"
 
 namespace lgvi::experiments::suites {
 
 /// A method with its coordinate model and tolerance (adaptive baselines) as a suite runs it.
 struct MethodSpec {
+  /// Throws InvalidInput("method") for a method not in the registry.
   MethodSpec(std::string method_, std::optional<std::string> model_ = std::nullopt,
              std::optional<double> rtol_ = std::nullopt)
-      : method(std::move(method_)), model(std::move(model_)), rtol(rtol_) {}
+      : method(std::move(method_)), model(std::move(model_)), rtol(rtol_), info(&method_info(method)) {}
 
   std::string method;                 ///< make_method name
   std::optional<std::string> model;   ///< baselines only
   std::optional<double> rtol;         ///< adaptive baselines only (atol = rtol)
+  const MethodInfo* info;             ///< the registered method
 
-  bool is_lgvi() const { return method == "lgvi" || method.starts_with("lgvi-"); }
-  bool fixed_step() const;
+  bool is_lgvi() const { return info->family != MethodFamily::Baseline; }
+  bool fixed_step() const { return info->fixed_step(); }
   /// Legend text naming method and model: "LGVI order 4 (yoshida4)", "cvode-bdf, quaternion".
   std::string label() const;
   /// File-name part: "lgvi-yoshida4", "cvode-bdf-quaternion".
@@ -51,10 +54,7 @@ const std::vector<std::string>& timing_columns();
 SuiteCase simulate_case(const std::string& id, const std::string& group, SimulateSpec spec, const MethodSpec& m,
                         Expectation expect, std::shared_ptr<const ReferenceRun> reference = nullptr);
 
-/// Axis labels of a system in its units (gnuplot enhanced text).
-struct SystemLabels {
-  std::string time, energy, momentum;
-};
+/// Axis labels of a system in its units (gnuplot enhanced text; the system's binding).
 SystemLabels system_labels(const std::string& system);
 
 /// A figure of one CSV column against time, one curve per case of `rows` (failed runs drawn up

@@ -61,8 +61,8 @@ std::vector<MethodSpec> adaptive_methods(bool quick) {
             {"gsl-rk8pd", "quaternion", std::nullopt}};
   }
   std::vector<MethodSpec> m;
-  for (const baselines::SolverInfo& info : baselines::solver_list()) {
-    if (info.step_control != baselines::StepControl::Adaptive) continue;
+  for (const MethodInfo& info : method_registry()) {
+    if (info.fixed_step()) continue;
     for (const char* model : {"quaternion", "matrix"}) m.push_back({info.name, std::string(model), std::nullopt});
   }
   return m;

@@ -57,7 +57,7 @@ void CartPendulumDirectModel::step_jacobians(const Lgvi& lgvi, const State& in, 
   const Vec3 Rp = RtE * p_minus;
 
   // Implicit equation G(F; eta, Pi, p, u_k) = 0 (multibody_lgvi.cpp), F -> F exp(hat xi).
-  const Mat3 DG = rotation_update_jacobian(F, Jd) + kappa * D * P * F * D;
+  const Mat3 DG = J_G_xi(F, Jd) + kappa * D * P * F * D;
   Eigen::Matrix<double, 3, 12> Gz = Eigen::Matrix<double, 3, 12>::Zero();  // [w (10), u_k (2)]
   Gz.block<3, 3>(0, 0) = kappa * D * (n.dot(a) * Mat3::Identity() + n * a.transpose()) * hat(n) -
                          (0.5 * h * h * mg) * D * hat(n) + (m * h / total) * D * hat(Rp);
@@ -168,10 +168,10 @@ void ConnectedBodiesDirectModel::step_jacobians(const Lgvi& lgvi, const State& i
 
   // G = 0 (eqs. 40-41), F_i -> F_i exp(hat xi_i); columns [eta1 eta2 Pi1 Pi2 u_k].
   Mat6x6 DG;
-  DG.topLeftCorner<3, 3>() = rotation_update_jacobian(F1, K1);
+  DG.topLeftCorner<3, 3>() = J_G_xi(F1, K1);
   DG.topRightCorner<3, 3>() = mu * D1 * R12 * F2 * D2;
   DG.bottomLeftCorner<3, 3>() = mu * D2 * R12.transpose() * F1 * D1;
-  DG.bottomRightCorner<3, 3>() = rotation_update_jacobian(F2, K2);
+  DG.bottomRightCorner<3, 3>() = J_G_xi(F2, K2);
   Eigen::Matrix<double, 6, 15> Gz = Eigen::Matrix<double, 6, 15>::Zero();
   Gz.block<3, 3>(0, 0) = -mu * D1 * hat(R12 * a2) - (h * c0) * hat(in.R1.transpose() * u_k);
   Gz.block<3, 3>(0, 3) = mu * D1 * R12 * hat(a2);

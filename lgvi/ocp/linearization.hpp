@@ -44,8 +44,10 @@
 
 namespace lgvi::ocp {
 
-/// L = (tr(F J_d) I - F J_d) F: h dPi = L xi for dF = F hat(xi) on h hat(Pi) = F J_d - J_d F^T.
-inline Mat3 rotation_update_jacobian(const Mat3& Jd, const Mat3& F) {
+/// J_hPi_xi = L = (tr(F J_d) I - F J_d) F: h dPi = L xi for dF = F hat(xi) on
+/// h hat(Pi) = F J_d - J_d F^T (eq. 8). Precondition: J_d symmetric. Equal in exact arithmetic
+/// to lgvi::J_G_xi(F, J_d), the rotation update's residual Jacobian (product order differs).
+inline Mat3 J_hPi_xi(const Mat3& F, const Mat3& Jd) {
   const Mat3 A = F * Jd;
   return (A.trace() * Mat3::Identity() - A) * F;
 }
@@ -65,7 +67,7 @@ struct RotationalDrift {
 
   RotationalDrift(const Mat3& Jd_, double h_, const Mat3& F_, const Vec3& Pi_in_)
       : h(h_), Jd(Jd_), F(F_), Pi_in(Pi_in_), Pi_out(F_.transpose() * Pi_in_),
-        L(rotation_update_jacobian(Jd_, F_)), L_inverse(L.inverse()),
+        L(J_hPi_xi(F_, Jd_)), L_inverse(L.inverse()),
         Mc(L.transpose() * F - h * so3::hat(Pi_out)), Mc_lu(Mc) {}
 
   /// d eta'/d eta, d eta'/dPi, dPi'/dPi (dPi'/d eta = 0).

@@ -23,6 +23,7 @@
 #include <Eigen/Cholesky>
 
 #include "lgvi/inertia.hpp"
+#include "lgvi/systems/system.hpp"
 #include "lgvi/types.hpp"
 
 namespace lgvi {
@@ -85,5 +86,7 @@ struct CartPendulum {
     return R.row(2).dot(Pi) + q.x() * p.y() - q.y() * p.x();
   }
 };
+
+static_assert(System<CartPendulum>);
 
 }  // namespace lgvi

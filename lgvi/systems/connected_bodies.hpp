@@ -23,6 +23,7 @@
 #pragma once
 
 #include "lgvi/inertia.hpp"
+#include "lgvi/systems/system.hpp"
 #include "lgvi/types.hpp"
 
 namespace lgvi {
@@ -75,5 +76,7 @@ struct ConnectedBodies {
     return R1 * Pi1 + R2 * Pi2;
   }
 };
+
+static_assert(System<ConnectedBodies>);
 
 }  // namespace lgvi

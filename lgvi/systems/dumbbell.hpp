@@ -21,6 +21,7 @@
 #pragma once
 
 #include "lgvi/inertia.hpp"
+#include "lgvi/systems/system.hpp"
 #include "lgvi/types.hpp"
 
 namespace lgvi {
@@ -64,5 +65,7 @@ struct DumbbellSpacecraft {
     return x.cross(mass * v) + R * (inertia.J * Omega);
   }
 };
+
+static_assert(System<DumbbellSpacecraft>);
 
 }  // namespace lgvi

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "lgvi/inertia.hpp"
+#include "lgvi/systems/system.hpp"
 #include "lgvi/types.hpp"
 
 namespace lgvi {
@@ -27,5 +28,7 @@ struct FreeRigidBody {
   /// Spatial angular momentum R J Omega (the momentum map of the left SO(3) symmetry).
   Vec3 spatial_momentum(const Mat3& R, const Vec3& Omega) const { return R * (inertia.J * Omega); }
 };
+
+static_assert(System<FreeRigidBody>);
 
 }  // namespace lgvi

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "lgvi/inertia.hpp"
+#include "lgvi/systems/system.hpp"
 #include "lgvi/types.hpp"
 
 namespace lgvi {
@@ -46,5 +47,7 @@ struct Pendulum3D {
     return R.row(2).dot(inertia.J * Omega);
   }
 };
+
+static_assert(System<Pendulum3D>);
 
 }  // namespace lgvi

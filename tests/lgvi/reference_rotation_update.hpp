@@ -2,7 +2,7 @@
 // as they were before the closed-form fast path, of
 //   lgvi/rotation_update.cpp   Newton with a generic Newton matrix and PartialPivLU solves;
 //   lgvi/lgvi.hpp              AttitudeLgvi::step and DumbbellLgvi::step;
-//   lgvi/group_newton.hpp      solve_on_rotations and rotation_update_jacobian;
+//   lgvi/group_newton.hpp      solve_on_rotations and J_G_xi;
 //   lgvi/multibody_lgvi.cpp    CartPendulumLgvi::step and ConnectedBodiesLgvi::step.
 // Only the wrapping differs: namespace lgvi::reference, `inline`, and the steps as free
 // functions taking the integrator's members as arguments (same parameter names, so the bodies
@@ -292,7 +292,7 @@ inline RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual
 
 /// d/dxi vee(F exp(hat xi) K - K exp(hat xi)^T F^T) at xi = 0 for symmetric K (F = I + A):
 /// F (tr(K F) I - K F) (from hat(xi) B + B^T hat(xi) = hat((tr B I - B) xi), B = K F).
-inline Mat3 rotation_update_jacobian(const Mat3& F, const Mat3& K) {
+inline Mat3 J_G_xi(const Mat3& F, const Mat3& K) {
   const Mat3 KF = K * F;
   return F * (KF.trace() * Mat3::Identity() - KF);
 }
@@ -324,7 +324,7 @@ inline RotationUpdateSummary cart_pendulum_step(const CartPendulum& system_, Lgv
     const Vec3 t2 = kappa * d.cross(P * (A[0] * d));
     G = t1 - t2 - b;
     const Mat3 F = Mat3::Identity() + A[0];
-    DG = rotation_update_jacobian(F, Jd) + kappa * D * P * F * D;
+    DG = J_G_xi(F, Jd) + kappa * D * P * F * D;
     return t1.norm() + t2.norm() + b_scale;
   };
   // Warm start from the linearization (J + kappa hat(d) P hat(d)) f = b at F = I.
@@ -380,10 +380,10 @@ inline RotationUpdateSummary connected_bodies_step(const ConnectedBodies& system
     const Vec3 x2 = mu * d2.cross(R12.transpose() * (A[0] * d1));  // mu d2 x R2^T a1
     G << t1 - x1 - hPi1, t2 - x2 - hPi2;
     const Mat3 F1 = Mat3::Identity() + A[0], F2 = Mat3::Identity() + A[1];
-    DG.topLeftCorner<3, 3>() = rotation_update_jacobian(F1, K1);
+    DG.topLeftCorner<3, 3>() = J_G_xi(F1, K1);
     DG.topRightCorner<3, 3>() = mu * D1 * R12 * F2 * D2;
     DG.bottomLeftCorner<3, 3>() = mu * D2 * R12.transpose() * F1 * D1;
-    DG.bottomRightCorner<3, 3>() = rotation_update_jacobian(F2, K2);
+    DG.bottomRightCorner<3, 3>() = J_G_xi(F2, K2);
     return t1.norm() + t2.norm() + x1.norm() + x2.norm() + rhs_scale;
   };
   // Warm start: at F = I the equations linearize to the mass matrix of eq. 47 times xi = h Omega.

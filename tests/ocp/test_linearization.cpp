@@ -4,6 +4,7 @@
 
 #include <iostream>
 
+#include "lgvi/group_newton.hpp"
 #include "ocp_cases.hpp"
 
 namespace lgvi::test {
@@ -27,15 +28,18 @@ TEST(RotationUpdateJacobian, IdentityHoldsForRandomRotationsAndInertias) {
     const Mat3 F = so3::random_rotation(rng);
     const Vec3 xi = random_vector<3>(rng, 1.0);
     const Mat3 lhs = F * so3::hat(xi) * I.Jd + I.Jd * so3::hat(xi) * F.transpose();
-    const Vec3 rhs = ocp::rotation_update_jacobian(I.Jd, F) * xi;
+    const Vec3 rhs = ocp::J_hPi_xi(F, I.Jd) * xi;
     EXPECT_LT((lhs + lhs.transpose()).norm(), roundoff(lhs.norm(), 8));  // skew
     worst = std::max(worst, (so3::vee(lhs) - rhs).norm() / rhs.norm());
+    // The rotation update's residual Jacobian is the same derivative (product order aside):
+    // entries of two 3x3 products of O(1) matrices, a few roundings each.
+    EXPECT_LT((J_G_xi(F, I.Jd) - ocp::J_hPi_xi(F, I.Jd)).norm(), roundoff(ocp::J_hPi_xi(F, I.Jd).norm(), 20));
   }
   std::cout << "[ measured ] max relative error of the identity: " << worst << "\n";
   EXPECT_LT(worst, roundoff(1.0, 20));
   // At F = I it is the linearized update J f = h p.
   const Inertia I = Inertia::from(Vec3(0.13, 0.28, 0.17).asDiagonal());
-  EXPECT_LT((ocp::rotation_update_jacobian(I.Jd, Mat3::Identity()) - I.J).norm(), roundoff(1.0));
+  EXPECT_LT((ocp::J_hPi_xi(Mat3::Identity(), I.Jd) - I.J).norm(), roundoff(1.0));
 }
 
 /// Central differences of one step in z coordinates with respect to the state (A) and to the

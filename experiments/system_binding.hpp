@@ -1,0 +1,97 @@
+// System bindings: what the harness knows about each system, in one place per system
+// (experiments/systems/<system>.hpp specializes SystemBinding<SceneModel>). The recorder, the
+// methods and the suites consult the binding of the scene's model (visit_binding) instead of
+// branching on the system. A new system: its scene model (scene.hpp), its binding file, one
+// line in system_bindings.hpp, and its scene reader (scene.cpp).
+#pragma once
+
+#include <algorithm>
+#include <concepts>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "experiments/recorder.hpp"
+#include "experiments/scene.hpp"
+#include "lgvi/integrate.hpp"
+#include "lgvi/rotation_update.hpp"
+#include "lgvi/so3.hpp"
+
+namespace lgvi::experiments {
+
+/// Energy and momentum map of a sample; the momentum has 1 (pendulum, cart) or 3 components.
+struct Conserved {
+  double energy;
+  Vec3 momentum;
+  int momentum_size;
+};
+
+/// Axis labels of a system in its units (gnuplot enhanced text).
+struct SystemLabels {
+  std::string time, energy, momentum;
+};
+
+/// SystemBinding<M> for a scene model M provides (static members):
+///   single_body                    no mass matrix to solve (a baseline's Jacobian text)
+///   state_columns(c)               appends the CSV state columns after t (paper's symbols)
+///   write_state(s, row, n)         writes those columns of sample s into row[n..]; returns n
+///   conserved(m, s)                energy and momentum map of a sample
+///   momentum_map()                 the momentum map's description and columns
+///   orthogonality_error(s), determinant_error(s)   the worst over the system's attitudes
+///   final_state_error(s, ref)      dimensionless distance of two final states (see suite_jobs.hpp)
+///   initial_rate(m)                |Omega0| (the largest body's)
+///   drop_controls(m)               removes the scene's controls (an uncontrolled run)
+///   labels()                       figure axis labels
+///   run_lgvi(m, form, rotation, drive)      the LGVI flow map, initial state, control and
+///                                  sample of the system, handed to drive(flow, state, control, to_sample)
+///   run_baseline(m, chart)         the continuous mechanics and initial state, handed to
+///                                  chart(mech, R, Omega, x, v) (baselines/mechanics.hpp)
+///   from_chart(decoded, s)         a baseline's decoded state into a sample
+template <class M>
+struct SystemBinding;
+
+/// The non-template part of the list above (run_lgvi, run_baseline and from_chart are templates
+/// on the driver's callbacks; their use in lgvi_method.cpp and baseline_method.cpp checks them).
+template <class B, class M>
+concept SystemBindingOf = requires(const M& m, M& edited, const Sample& s, std::vector<std::string>& c, double* row) {
+  { B::single_body } -> std::convertible_to<bool>;
+  B::state_columns(c);
+  { B::write_state(s, row, std::size_t{0}) } -> std::same_as<std::size_t>;
+  { B::conserved(m, s) } -> std::same_as<Conserved>;
+  { B::momentum_map() } -> std::same_as<MomentumMap>;
+  { B::orthogonality_error(s) } -> std::same_as<double>;
+  { B::determinant_error(s) } -> std::same_as<double>;
+  { B::final_state_error(s, s) } -> std::same_as<double>;
+  { B::initial_rate(m) } -> std::same_as<double>;
+  B::drop_controls(edited);
+  { B::labels() } -> std::same_as<SystemLabels>;
+};
+
+/// The state columns "<name>11".."<name>33" of a matrix and "<name>1".."<name>3" of a vector.
+inline void matrix_columns(std::vector<std::string>& c, const std::string& name) {
+  for (int i = 1; i <= 3; ++i) {
+    for (int j = 1; j <= 3; ++j) c.push_back(name + std::to_string(i) + std::to_string(j));
+  }
+}
+inline void vector_columns(std::vector<std::string>& c, const std::string& name) {
+  for (int i = 1; i <= 3; ++i) c.push_back(name + std::to_string(i));
+}
+/// Writes M row by row, or the first `size` entries of v, into row[n..]; returns the new n.
+inline std::size_t write_matrix(const Mat3& M, double* row, std::size_t n) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) row[n++] = M(i, j);
+  }
+  return n;
+}
+inline std::size_t write_vector(const Vec3& v, int size, double* row, std::size_t n) {
+  for (int i = 0; i < size; ++i) row[n++] = v(i);
+  return n;
+}
+
+/// |a - ref| / |ref|, absolute when |ref| = 0.
+inline double relative_error(const Vec3& a, const Vec3& ref) {
+  const double n = ref.norm();
+  return n > 0.0 ? (a - ref).norm() / n : (a - ref).norm();
+}
+
+}  // namespace lgvi::experiments
