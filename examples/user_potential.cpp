@@ -20,6 +20,10 @@ struct DipoleInField {
   double potential(const lgvi::Mat3& R) const { return -field.dot(R * dipole); }
   lgvi::Vec3 moment(const lgvi::Mat3& R) const { return dipole.cross(R.transpose() * field); }
   lgvi::Vec3 control_moment(const lgvi::Mat3&, const Control& u) const { return u; }
+  /// Total energy (the System concept asks every system for one).
+  double energy(const lgvi::Mat3& R, const lgvi::Vec3& Omega) const {
+    return 0.5 * Omega.dot(inertia.J * Omega) + potential(R);
+  }
 };
 static_assert(lgvi::AttitudeSystem<DipoleInField>);
 
@@ -30,9 +34,7 @@ int main() {
   const AttitudeLgvi<DipoleInField> lgvi(system);
   const Mat3 R0 = so3::exp(Vec3(0.4, -0.2, 0.1));
   const Vec3 Omega0(1.0, 0.5, 3.0);
-  auto energy = [&](const Mat3& R, const Vec3& Omega) {
-    return 0.5 * Omega.dot(system.inertia.J * Omega) + system.potential(R);
-  };
+  auto energy = [&](const Mat3& R, const Vec3& Omega) { return system.energy(R, Omega); };
   auto axial_momentum = [&](const Mat3& R, const Vec3& Omega) {
     return system.field.normalized().dot(R * (system.inertia.J * Omega));
   };
