@@ -1,10 +1,9 @@
 #!/usr/bin/env bash
 # The sanitizer job of CI (README "Tests"; run by the test command after the ordinary tests):
 #  1. an AddressSanitizer + UndefinedBehaviorSanitizer build (clang, -O1, no recovery: the first
-#     report fails the job) of the core, the harness, the CLI and two test binaries, in its own
-#     build directory (default build-asan);
-#  2. test_lgvi whole, test_experiments without its slowest suites (see FILTER below), and CLI
-#     runs of every shipped scene, a baseline, a quick suite, two optimal control examples with
+#     report fails the job) of the core, the harness, the CLI and test_lgvi, in its own build
+#     directory (default build-asan);
+#  2. test_lgvi whole, and CLI runs of every shipped scene, a baseline, a quick suite, two optimal control examples with
 #     few iterations, and the hostile scene files of tests/fuzz/regressions;
 #  3. a bounded libFuzzer run of the scene parser (tests/fuzz/fuzz_scene.cpp) from the shipped
 #     scenes and the regression inputs (FUZZ_SECONDS, default 60), with a fixed seed (FUZZ_SEED,
@@ -20,21 +19,21 @@ start=$(date +%s)
 stamp() { echo "sanitize.sh: $1 ($(( $(date +%s) - start )) s)"; }
 
 cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_CXX_FLAGS="-O1 -g -fno-omit-frame-pointer $sanitize" \
+  -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only -fno-omit-frame-pointer $sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS="$sanitize" \
   -DLGVI_BUILD_BENCHMARKS=OFF -DLGVI_BUILD_EXAMPLES=OFF -DLGVI_BUILD_PYTHON=OFF -DLGVI_INSTALL=OFF \
   -DLGVI_BUILD_FUZZERS=ON >/dev/null
-cmake --build "$dir" -j"$jobs" --target test_lgvi test_experiments lgvi-testbed fuzz_scene
+cmake --build "$dir" -j"$jobs" --target test_lgvi lgvi-testbed fuzz_scene
 stamp "built"
 
 export ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 "$dir/tests/test_lgvi" --gtest_brief=1
 stamp "test_lgvi passed"
-# The suite and figure tests run whole suites through the CLI (minutes under ASan); the CLI runs
-# below cover the suite code once.
-"$dir/tests/test_experiments" --gtest_brief=1 --gtest_filter='-Suite*:*Figures*:*OcpSuites*:*Validate*'
-stamp "test_experiments passed"
+# test_experiments is not built here: with it (and full -g) the sanitizer build alone was on
+# course for ~25 minutes on 2 cores, which with the rest of CI passes the 45-minute budget; the
+# CLI runs below drive the harness (scene parsing, every method, a suite, the ocp commands, the
+# output writers) instead.
 
 exe="$dir/lgvi-testbed"
 work=$(mktemp -d)
