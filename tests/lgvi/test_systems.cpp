@@ -224,7 +224,10 @@ TEST_P(DumbbellAt, ForceIsMinusPositionGradientOfPotential) {
 
 // M = -dU/d eta (the sign derived at the top of this file).
 TEST_P(DumbbellAt, MomentIsMinusRotationalGradientOfPotential) {
-  const auto& [name, R, x] = GetParam();
+  // Named references, not a structured binding: clang 14 (the sanitizer build) does not let a
+  // lambda capture a structured binding.
+  const Mat3& R = GetParam().R;
+  const Vec3& x = GetParam().x;
   const Vec3 g = fd_rotation_gradient(R, [&](const Mat3& Q) { return d.potential(Q, x); });
   const Vec3 M = d.forces(R, x).moment;
   EXPECT_LE((M + g).norm(), kFdTolerance * scale(x))
@@ -233,7 +236,8 @@ TEST_P(DumbbellAt, MomentIsMinusRotationalGradientOfPotential) {
 
 // Eq. 13 as printed, with dU/dR by central differences.
 TEST_P(DumbbellAt, MomentSatisfiesEquation13) {
-  const auto& [name, R, x] = GetParam();
+  const Mat3& R = GetParam().R;
+  const Vec3& x = GetParam().x;
   const Mat3 dU = fd_matrix_gradient(R, [&](const Mat3& Q) { return d.potential(Q, x); });
   const Mat3 hatM = dU.transpose() * R - R.transpose() * dU;
   EXPECT_LE((so3::hat(d.forces(R, x).moment) - hatM).norm(), kFdTolerance * scale(x));
