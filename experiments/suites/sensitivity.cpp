@@ -538,7 +538,11 @@ Suite sensitivity_suite(const SuiteParams& params) {
 
   s.render = [](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
     std::vector<fs::path> files;
-    for (const auto& [scene, members] : by_group(rows)) {
+    for (const auto& group : by_group(rows)) {
+      // Named references, not a structured binding: clang 14 (the sanitizer build) does not let
+      // a lambda capture one.
+      const std::string& scene = group.first;
+      const auto& members = group.second;
       const auto curves_of = [&](const char* column) {
         std::vector<XyCurve> curves;
         std::map<std::string, std::size_t> where;
