@@ -22,12 +22,37 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// The message on one line: control characters (a parser's excerpt of the input may carry a
+/// newline) written as escapes, "\n", "\t", "\r" or "\xHH".
+std::string one_line(const std::string& text) {
+  std::string s;
+  s.reserve(text.size());
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n') {
+      s += "\\n";
+    } else if (c == '\t') {
+      s += "\\t";
+    } else if (c == '\r') {
+      s += "\\r";
+    } else if (u < 0x20 || u == 0x7f) {
+      static constexpr char kHex[] = "0123456789abcdef";
+      s += "\\x";
+      s += kHex[u >> 4];
+      s += kHex[u & 0xf];
+    } else {
+      s += c;
+    }
+  }
+  return s;
+}
+
 std::string join_message(const std::string& file, const std::string& field, const std::string& reason) {
   std::string s;
   for (const std::string* part : {&file, &field}) {
     if (!part->empty()) s += *part + ": ";
   }
-  return s + reason;
+  return one_line(s + reason);
 }
 
 std::string format_number(double x) {

@@ -372,4 +372,15 @@ TEST(ResolveScene, NamesAndPaths) {
 }
 
 }  // namespace
+
+// A parser's excerpt of the input may contain the input's own newline (toml++: "expected 'nan',
+// saw 'n<newline>'"; found by the scene fuzzer): the error stays one line, the character escaped.
+TEST(SceneErrors, AreOneLineWhenTheParserQuotesANewline) {
+  const SceneError e = scene_error("system = \"free-body\"\n[parameters]\nrho = [n\nme = 1\n");
+  const std::string what = e.what();
+  EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  EXPECT_EQ(what.rfind("test.toml: line 3", 0), 0u) << what;
+  EXPECT_NE(what.find("\\n"), std::string::npos) << what;
+}
+
 }  // namespace lgvi::experiments
