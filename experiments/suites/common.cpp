@@ -25,6 +25,20 @@ std::vector<MethodSpec> lgvi_methods(bool quick) {
   return {{"lgvi"}, {"lgvi-yoshida4"}, {"lgvi-suzuki4"}, {"lgvi-yoshida6"}, {"lgvi-kahan-li6"}};
 }
 
+std::vector<MethodSpec> adaptive_sweep_methods(bool quick) {
+  if (quick) {
+    return {{"cvode-adams", "quaternion", std::nullopt}, {"cvode-bdf", "quaternion", std::nullopt},
+            {"odeint-dopri5", "quaternion", std::nullopt}, {"odeint-dopri5", "matrix", std::nullopt},
+            {"gsl-rk8pd", "quaternion", std::nullopt}};
+  }
+  std::vector<MethodSpec> m;
+  for (const MethodInfo& info : method_registry()) {
+    if (info.fixed_step()) continue;
+    for (const char* model : {"quaternion", "matrix"}) m.push_back({info.name, std::string(model), std::nullopt});
+  }
+  return m;
+}
+
 std::vector<MethodSpec> long_run_methods(bool quick) {
   std::vector<MethodSpec> m = lgvi_methods(quick);
   if (quick) {

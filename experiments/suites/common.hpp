@@ -37,6 +37,10 @@ struct MethodSpec {
 /// LGVI order 2, 4 and 6 (quick: lgvi, lgvi-yoshida4, lgvi-kahan-li6; full adds suzuki4 and
 /// yoshida6).
 std::vector<MethodSpec> lgvi_methods(bool quick);
+/// Adaptive solvers of the tolerance sweeps (work-precision, long-horizon). Quick: CVODE Adams and
+/// BDF, odeint Dormand-Prince and GSL rk8pd on quaternions, Dormand-Prince on matrices. Full:
+/// every adaptive solver on the quaternion and matrix models.
+std::vector<MethodSpec> adaptive_sweep_methods(bool quick);
 /// Methods of the long-horizon suites. Quick: the LGVIs of order 2, 4, 6, CVODE Adams and BDF,
 /// odeint RK4 and Dormand-Prince on the quaternion and matrix models, RK4 with renormalized
 /// quaternions, GSL rk8pd and rk4imp. Full: every LGVI and every solver on every model it

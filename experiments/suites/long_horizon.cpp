@@ -54,20 +54,6 @@ std::vector<MethodSpec> fixed_methods(bool quick) {
   return m;
 }
 
-std::vector<MethodSpec> adaptive_methods(bool quick) {
-  if (quick) {
-    return {{"cvode-adams", "quaternion", std::nullopt}, {"cvode-bdf", "quaternion", std::nullopt},
-            {"odeint-dopri5", "quaternion", std::nullopt}, {"odeint-dopri5", "matrix", std::nullopt},
-            {"gsl-rk8pd", "quaternion", std::nullopt}};
-  }
-  std::vector<MethodSpec> m;
-  for (const MethodInfo& info : method_registry()) {
-    if (info.fixed_step()) continue;
-    for (const char* model : {"quaternion", "matrix"}) m.push_back({info.name, std::string(model), std::nullopt});
-  }
-  return m;
-}
-
 std::string tag(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", x);
@@ -149,7 +135,7 @@ Suite long_horizon_suite(const SuiteParams& params) {
                                         k < kProbeLevels ? Expectation::Either : Expectation::Complete));
       }
     }
-    for (MethodSpec m : adaptive_methods(params.quick)) {
+    for (MethodSpec m : adaptive_sweep_methods(params.quick)) {
       for (const double rtol : tolerances) {
         m.rtol = rtol;
         SimulateSpec spec;

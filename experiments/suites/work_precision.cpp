@@ -45,20 +45,6 @@ std::vector<MethodSpec> fixed_methods(bool quick) {
   return m;
 }
 
-std::vector<MethodSpec> adaptive_methods(bool quick) {
-  if (quick) {
-    return {{"cvode-adams", "quaternion", std::nullopt}, {"cvode-bdf", "quaternion", std::nullopt},
-            {"odeint-dopri5", "quaternion", std::nullopt}, {"odeint-dopri5", "matrix", std::nullopt},
-            {"gsl-rk8pd", "quaternion", std::nullopt}};
-  }
-  std::vector<MethodSpec> m;
-  for (const MethodInfo& info : method_registry()) {
-    if (info.fixed_step()) continue;
-    for (const char* model : {"quaternion", "matrix"}) m.push_back({info.name, std::string(model), std::nullopt});
-  }
-  return m;
-}
-
 /// Accuracy levels of the table: final-state errors 1e-2, 1e-4, ..., 1e-10.
 const std::vector<double> kLevels = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10};
 
@@ -104,7 +90,7 @@ Suite work_precision_suite(const SuiteParams& params) {
                                         Expectation::Complete, reference));
       }
     }
-    for (MethodSpec m : adaptive_methods(params.quick)) {
+    for (MethodSpec m : adaptive_sweep_methods(params.quick)) {
       for (const double rtol : tolerances) {
         m.rtol = rtol;
         SimulateSpec spec;
