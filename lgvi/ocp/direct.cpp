@@ -417,14 +417,13 @@ typename DirectTranscription<Model>::NodeControls DirectTranscription<Model>::no
 }
 
 template <class Model>
-bool DirectTranscription<Model>::evaluate(const Eigen::VectorXd& c, bool gradients, Evaluation& e) const {
-  const int np = parameters();
+template <class E>
+void DirectTranscription<Model>::sample_controls_and_cost(const Eigen::VectorXd& c, bool gradients, E& e) const {
   const std::size_t N = steps_;
   e.controls.resize(nu, static_cast<Eigen::Index>(N + 1));
   for (int a = 0; a < nu; ++a) e.controls.row(a).noalias() = (S_ * c.segment(a * knots_, knots_)).transpose();
   // Cost and its gradient (exact: quadratic in c).
   e.cost = 0.0;
-  e.cost_gradient.setZero(np);
   for (std::size_t j = 0; j <= N; ++j) {
     const VecU u = e.controls.col(static_cast<Eigen::Index>(j));
     const VecU Wu = W_ * u;
@@ -435,15 +434,16 @@ bool DirectTranscription<Model>::evaluate(const Eigen::VectorXd& c, bool gradien
       }
     }
   }
-  if (gradients) {
-    e.Phi.setZero(nw, np);
-    e.Phi_next.resize(nw, np);
-  }
+}
+
+template <class Model>
+template <class E>
+bool DirectTranscription<Model>::advance(State& s, std::size_t k_begin, std::size_t k_end, bool gradients,
+                                         E& e) const {
   typename Model::MatW A;
   typename Model::MatWU B0, B1;
-  State s = initial_, next;
-  e.ok = false;
-  for (std::size_t k = 0; k < N; ++k) {
+  State next;
+  for (std::size_t k = k_begin; k < k_end; ++k) {
     const VecU u0 = e.controls.col(static_cast<Eigen::Index>(k));
     const VecU u1 = e.controls.col(static_cast<Eigen::Index>(k + 1));
     const RotationUpdateSummary r = lgvi_.step(s, h_, u0, u1, next);
@@ -453,6 +453,7 @@ bool DirectTranscription<Model>::evaluate(const Eigen::VectorXd& c, bool gradien
       return false;
     }
     if (gradients) {
+      // Phi_{k+1} = A_k Phi_k + B0_k du_k/dc + B1_k du_{k+1}/dc (knot columns first).
       Model::step_jacobians(lgvi_, s, next, h_, u0, u1, A, B0, B1);
       e.Phi_next.noalias() = A * e.Phi;
       for (int a = 0; a < nu; ++a) {
@@ -463,6 +464,21 @@ bool DirectTranscription<Model>::evaluate(const Eigen::VectorXd& c, bool gradien
     }
     s = next;
   }
+  return true;
+}
+
+template <class Model>
+bool DirectTranscription<Model>::evaluate(const Eigen::VectorXd& c, bool gradients, Evaluation& e) const {
+  const int np = parameters();
+  e.cost_gradient.setZero(np);
+  sample_controls_and_cost(c, gradients, e);
+  if (gradients) {
+    e.Phi.setZero(nw, np);
+    e.Phi_next.resize(nw, np);
+  }
+  State s = initial_;
+  e.ok = false;
+  if (!advance(s, 0, steps_, gradients, e)) return false;
   e.ok = true;
   e.residual = Model::residual(lgvi_, problem_, s);
   const int m = constraints();
@@ -606,22 +622,9 @@ bool DirectTranscription<Model>::evaluate_shooting(const ShootingNodes& n, const
   using MatW = typename Model::MatW;
   using VecW = typename Model::VecW;
   const int np = parameters(), K = n.segments(), m = constraints();
-  const std::size_t N = steps_;
   const Eigen::VectorXd c = x.head(np);
-  e.controls.resize(nu, static_cast<Eigen::Index>(N + 1));
-  for (int a = 0; a < nu; ++a) e.controls.row(a).noalias() = (S_ * c.segment(a * knots_, knots_)).transpose();
-  e.cost = 0.0;
   e.cost_gradient.setZero(x.size());
-  for (std::size_t j = 0; j <= N; ++j) {
-    const VecU u = e.controls.col(static_cast<Eigen::Index>(j));
-    const VecU Wu = W_ * u;
-    e.cost += 0.5 * node_weights_(j) * u.dot(Wu);
-    if (gradients) {
-      for (int a = 0; a < nu; ++a) {
-        e.cost_gradient.segment(a * knots_, knots_) += (node_weights_(j) * Wu(a)) * S_.row(j).transpose();
-      }
-    }
-  }
+  sample_controls_and_cost(c, gradients, e);
   e.constraints.resize(shooting_constraints(n));
   if (gradients) {
     e.jacobian_values.clear();
@@ -629,9 +632,8 @@ bool DirectTranscription<Model>::evaluate_shooting(const ShootingNodes& n, const
     e.Phi_next.resize(nw, np + nw);
   }
   e.ok = false;
-  MatW A, J_d_a, J_d_b;
-  typename Model::MatWU B0, B1;
-  State s, next;
+  MatW J_d_a, J_d_b;
+  State s;
   const auto push = [&](const auto& block) {  // row-major, as shooting_structure lists it
     for (Eigen::Index r = 0; r < block.rows(); ++r) {
       for (Eigen::Index q = 0; q < block.cols(); ++q) e.jacobian_values.push_back(block(r, q));
@@ -650,25 +652,8 @@ bool DirectTranscription<Model>::evaluate_shooting(const ShootingNodes& n, const
       e.Phi.setZero();
       e.Phi.rightCols(nw).setIdentity();
     }
-    for (std::size_t k = n.nodes[static_cast<std::size_t>(j)]; k < n.nodes[static_cast<std::size_t>(j + 1)]; ++k) {
-      const VecU u0 = e.controls.col(static_cast<Eigen::Index>(k));
-      const VecU u1 = e.controls.col(static_cast<Eigen::Index>(k + 1));
-      const RotationUpdateSummary r = lgvi_.step(s, h_, u0, u1, next);
-      if (!r.converged()) {
-        e.failed_step = k;
-        e.failure = r;
-        return false;
-      }
-      if (gradients) {
-        Model::step_jacobians(lgvi_, s, next, h_, u0, u1, A, B0, B1);
-        e.Phi_next.noalias() = A * e.Phi;
-        for (int a = 0; a < nu; ++a) {
-          e.Phi_next.middleCols(a * knots_, knots_).noalias() +=
-              B0.col(a) * S_.row(static_cast<Eigen::Index>(k)) + B1.col(a) * S_.row(static_cast<Eigen::Index>(k + 1));
-        }
-        e.Phi.swap(e.Phi_next);
-      }
-      s = next;
+    if (!advance(s, n.nodes[static_cast<std::size_t>(j)], n.nodes[static_cast<std::size_t>(j + 1)], gradients, e)) {
+      return false;
     }
     if (j + 1 < K) {
       const State& target = Model::retract(lgvi_, n.reference[static_cast<std::size_t>(j)], x.segment(np + j * nw, nw));

@@ -350,6 +350,17 @@ class DirectTranscription {
   int knots() const { return knots_; }
 
  private:
+  /// u_j = (S c)_j at the N+1 nodes into e.controls and the cost sum_j w_j u_j^T W u_j / 2 into
+  /// e.cost; with `gradients`, its gradient in the knots added to the head of e.cost_gradient
+  /// (sized and zeroed by the caller).
+  template <class E>
+  void sample_controls_and_cost(const Eigen::VectorXd& c, bool gradients, E& e) const;
+  /// Steps `s` over [k_begin, k_end) with e.controls; with `gradients`, carries e.Phi (knot
+  /// columns first) through the step linearizations. False, with e.failed_step and e.failure,
+  /// at the first rotation update that does not converge (`s` then is the last good state).
+  template <class E>
+  bool advance(State& s, std::size_t k_begin, std::size_t k_end, bool gradients, E& e) const;
+
   typename Model::Lgvi lgvi_;
   Transfer problem_;
   double h_;
