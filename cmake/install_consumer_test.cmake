@@ -30,6 +30,17 @@ if(NOT run_output MATCHES "${prefix}/share/lgvi/scenes")
   message(FATAL_ERROR "the installed lgvi-testbed's --scenes-dir default is not under the prefix:\n${run_output}")
 endif()
 
+# validate --accept never rewrites the installation's accepted values: without --accepted FILE it
+# is refused (exit 1, naming --accepted) before any metric is computed, the file unchanged.
+set(installed_accepted ${prefix}/share/lgvi/validation/accepted-quick.txt)
+file(SHA256 ${installed_accepted} accepted_before)
+execute_process(COMMAND ${prefix}/bin/lgvi-testbed validate --quick --accept
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+file(SHA256 ${installed_accepted} accepted_after)
+if(NOT rc EQUAL 1 OR NOT err MATCHES "--accepted" OR NOT accepted_before STREQUAL accepted_after)
+  message(FATAL_ERROR "the installed validate --accept was not refused (exit ${rc}):\n${out}\n${err}")
+endif()
+
 set(launcher)
 if(LAUNCHER)
   set(launcher -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER})

@@ -175,11 +175,13 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     for (const auto& [n, d] : metric_groups()) groups_help += "\n  " + n + ": " + d;
     validate_cmd->add_flag("--quick", validate_quick, "The fast form (CI; under two minutes on 2 cores)");
     validate_cmd->add_option("--accepted", accepted_file,
-                             "Accepted values (default: validation/accepted-quick.txt or accepted-full.txt)");
+                             "Accepted values (default: validation/accepted-quick.txt or accepted-full.txt; an installed "
+                             "lgvi-testbed's --accept needs this file)");
     validate_cmd->add_option("--json", validate_json, "Also write the report as JSON to this file");
     validate_cmd->add_option("--markdown", validate_markdown, "Also write the report as a Markdown table");
     validate_cmd->add_flag("--accept", accept,
-                           "Rewrite the accepted file with the values now and print what changed (exit 0)");
+                           "Rewrite the accepted file (--accepted; in a source checkout, the default) with the values now "
+                           "and print what changed (exit 0)");
     validate_cmd->add_option("--only", only_groups, groups_help)->delimiter(',');
     validate_cmd->add_flag("--degraded-rotation-update", degraded,
                            "Run the single-body LGVIs with a degraded rotation update (relative tolerance 1e-9 "
@@ -210,7 +212,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       if (accept && (!only_groups.empty() || degraded)) {
         throw InvalidInput("--accept", "accepts the complete default set only (no --only, no --degraded-rotation-update)");
       }
-      const fs::path file = accepted_file.empty() ? default_accepted_file(validate_quick) : fs::path(accepted_file);
+      const fs::path file = accept ? accept_destination(accepted_file, validate_quick)
+                            : accepted_file.empty() ? default_accepted_file(validate_quick) : fs::path(accepted_file);
       const AcceptedFile before = read_accepted(file);
       const std::string form = validate_quick ? "quick" : "full";
       if (!before.form.empty() && before.form != form) {

@@ -12,4 +12,8 @@ namespace lgvi::experiments {
 /// tree's executable, or an installation without its data).
 std::filesystem::path data_dir(std::string_view installed, std::string_view in_source);
 
+/// True when data_dir(installed, ...) is an installation's directory (beside the executable),
+/// false when it is the source tree's: an installation's data is not the user's to rewrite.
+bool data_dir_is_installed(std::string_view installed);
+
 }  // namespace lgvi::experiments

@@ -139,6 +139,21 @@ fs::path default_accepted_file(bool quick) {
   return data_dir("validation", "validation") / (quick ? "accepted-quick.txt" : "accepted-full.txt");
 }
 
+fs::path accept_destination(const fs::path& given, const fs::path& default_file, bool default_is_installed) {
+  if (!given.empty()) return given;
+  if (default_is_installed) {
+    throw InvalidInput("--accepted", "--accept writes the accepted values to a file you name: the default " +
+                                         default_file.string() +
+                                         " belongs to the installation (give --accepted FILE, then compare "
+                                         "later runs with validate --accepted FILE)");
+  }
+  return default_file;
+}
+
+fs::path accept_destination(const fs::path& given, bool quick) {
+  return accept_destination(given, default_accepted_file(quick), data_dir_is_installed("validation"));
+}
+
 // File format: '#' comment lines, "# accepted_at: DESCRIBE", "# form: quick|full", then one
 // line per metric "NAME KIND VALUE", sorted by name. Names contain no blanks.
 AcceptedFile read_accepted(const fs::path& file) {

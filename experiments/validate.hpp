@@ -145,6 +145,15 @@ std::vector<std::string> accepted_diff(const AcceptedFile& before, const std::ve
 /// in the source tree.
 std::filesystem::path default_accepted_file(bool quick);
 
+/// Where `validate --accept` writes: `given` (the --accepted option) when not empty; otherwise
+/// the form's default file when it is the source tree's (a checkout's reviewed file). An
+/// installed lgvi-testbed's default (PREFIX/share/lgvi/validation) belongs to the installation:
+/// refused with InvalidInput("--accepted", ...) asking for a file of the user's.
+std::filesystem::path accept_destination(const std::filesystem::path& given, bool quick);
+/// The rule of accept_destination with the default file and where it lives given (for tests).
+std::filesystem::path accept_destination(const std::filesystem::path& given, const std::filesystem::path& default_file,
+                                         bool default_is_installed);
+
 /// Group of a metric name: its first path component.
 std::string metric_group(const std::string& name);
 

@@ -135,6 +135,24 @@ TEST(ValidateCli, UnknownGroupAndAcceptWithOptionsAreBadInput) {
   EXPECT_FALSE(std::filesystem::exists(dir.work() / "x.txt"));
 }
 
+// --accept writes where the user says; without --accepted only into a source checkout's own file,
+// never into an installation's data (install_consumer_test.cmake runs the installed CLI).
+TEST(ValidateAccept, WritesTheGivenFileAndRefusesAnInstalledDefault) {
+  const std::filesystem::path installed = "/opt/lgvi/share/lgvi/validation/accepted-quick.txt";
+  EXPECT_EQ(accept_destination("mine.txt", installed, true), std::filesystem::path("mine.txt"));
+  EXPECT_EQ(accept_destination("", "src/validation/accepted-quick.txt", false),
+            std::filesystem::path("src/validation/accepted-quick.txt"));
+  try {
+    accept_destination("", installed, true);
+    FAIL() << "an installed default accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.field(), "--accepted") << e.what();
+    EXPECT_NE(std::string(e.what()).find(installed.string()), std::string::npos) << e.what();
+  }
+  // The build tree's CLI reads the source tree's data: its default stays the checkout's file.
+  EXPECT_EQ(accept_destination("", true), default_accepted_file(true));
+}
+
 // suite --check-against: a run against itself passes; against an edited accepted summary
 // (an error doubled, a status changed) it exits 4 naming the metrics; another suite is refused.
 TEST(SuiteCheckAgainst, PassesOnItselfAndCatchesEditedValues) {
