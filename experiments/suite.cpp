@@ -18,8 +18,10 @@
 #include <thread>
 
 #include "experiments/atomic_file.hpp"
+#include "experiments/csv_writer.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/simulate.hpp"
+#include "experiments/summary_metadata.hpp"
 
 namespace lgvi::experiments {
 
@@ -277,6 +279,7 @@ void write_summaries(const Suite& suite, const std::vector<std::size_t>& indices
   AtomicFile csv(options.out_dir / "summary.csv");
   AtomicFile jsonl(options.out_dir / "summary.jsonl");
   if (options.shard.index == 0) {
+    csv.write(metadata_lines(summary_metadata(suite, cols, options.quick)));  // units, column meanings
     std::string header;
     for (const std::string& c : cols) header += (header.empty() ? "" : ",") + c;
     csv.write(header + "\n");
@@ -326,12 +329,18 @@ std::vector<SummaryRow> read_summary_csv(const fs::path& file) {
     return cells;
   };
   std::string line;
-  if (!std::getline(in, line) || line.rfind("index,", 0) != 0) {
+  bool more = static_cast<bool>(std::getline(in, line));
+  std::size_t comment_lines = 0;  // the `# key: value` metadata before the header
+  while (more && line.starts_with("#")) {
+    more = static_cast<bool>(std::getline(in, line));
+    ++comment_lines;
+  }
+  if (!more || line.rfind("index,", 0) != 0) {
     throw OutputError(file.string() + ": no header line 'index,...' (concatenate shard 0 first)");
   }
   const std::vector<std::string> header = split(line);
   std::vector<SummaryRow> rows;
-  for (std::size_t n = 2; std::getline(in, line); ++n) {
+  for (std::size_t n = comment_lines + 2; std::getline(in, line); ++n) {
     if (line.empty()) continue;
     const std::vector<std::string> cells = split(line);
     if (cells.size() != header.size()) {

@@ -6,7 +6,9 @@
 //   <case id>.csv      (and whatever else the job writes), each written atomically;
 //   summary.csv        one row per case in case order, the header line only in shard 0 (and in
 //                      an unsharded run), so that `cat` of the shards' summaries in shard order
-//                      is the unsharded summary;
+//                      is the unsharded summary; before the header, shard 0 writes `# key: value`
+//                      metadata: suite, form, version, units and the columns' meanings
+//                      (summary_metadata.hpp; read_summary_csv skips it);
 //   summary.jsonl      one JSON object per case per line (every field the job reported), which
 //                      concatenates the same way;
 //   figures/tables     rendered from summary.csv read back (render_suite), so a merged sharded

@@ -27,9 +27,10 @@ FALLBACK_COLUMN = "integrator_seconds"
 
 
 def read_summary(path):
-    """The rows of a summary.csv as dicts (the harness writes no quoted cells)."""
+    """The rows of a summary.csv as dicts (the harness writes no quoted cells; the leading
+    '# key: value' metadata lines are skipped)."""
     with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
 
 def run_suite(binary, suite, jobs, out_dir):

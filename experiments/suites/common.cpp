@@ -69,8 +69,8 @@ const std::vector<std::string>& simulation_columns() {
       "scene",           "system",           "label",           "method",           "model",
       "form",            "variant",          "h",               "rtol",             "h_omega",
       "t_final",         "solver_steps",     "evaluations",     "rhs_evaluations",  "newton_iterations",
-      "integrator_seconds", "max_energy_error", "max_orthogonality_error", "max_quaternion_norm_error",
-      "max_momentum_drift", "final_error",   "reference",       "csv_path"};
+      "integrator_seconds", "max_energy_error_relative", "max_energy_error_absolute", "max_orthogonality_error",
+      "max_quaternion_norm_error", "max_momentum_drift_absolute", "final_error", "reference", "csv_path"};
   return columns;
 }
 

@@ -3,6 +3,7 @@
 // CSV up to the last good step), scenes, suite.
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <gtest/gtest.h>
 
@@ -358,7 +359,19 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
 
   const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.jsonl"));
   ASSERT_EQ(summary.size(), 14u);  // one JSON object per run
-  EXPECT_EQ(lines_of(read_text(dir.work() / "res" / "summary.csv")).size(), 15u);  // header + 14 rows
+  // The metadata lines ('#') state the units and what each error column is; then header + 14 rows.
+  const std::vector<std::string> csv = lines_of(read_text(dir.work() / "res" / "summary.csv"));
+  const auto metadata_end = std::find_if(csv.begin(), csv.end(), [](const std::string& l) { return !l.starts_with("#"); });
+  EXPECT_EQ(csv.end() - metadata_end, 15);
+  const std::string metadata = std::accumulate(csv.begin(), metadata_end, std::string());
+  for (const char* line : {"# suite: default", "# form: full", "# units: ", "# errors: ",
+                           "# columns.max_energy_error_relative: ", "# columns.max_energy_error_absolute: ",
+                           "# columns.max_momentum_drift_absolute: "}) {
+    EXPECT_NE(metadata.find(line), std::string::npos) << line << " not in " << metadata;
+  }
+  ASSERT_NE(metadata_end, csv.end());
+  EXPECT_NE(metadata_end->find(",max_energy_error_relative,max_energy_error_absolute,"), std::string::npos)
+      << *metadata_end;
   for (std::size_t i = 0; i < 14; ++i) {
     for (const char* key : {"\"scene\": ", "\"method\": \"lgvi\"", "\"form\": ", "\"status\": \"completed\"",
                             "\"newton_iterations\": ", "\"max_newton_iterations\": ", "\"wall_seconds\": ",
