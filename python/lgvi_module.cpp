@@ -6,7 +6,9 @@
 // (step, simulate), one baseline run (simulate_baseline: every method and coordinate model of
 // baselines/solver.hpp) and the indirect optimal control of the pendulum (solve_pendulum_transfer,
 // sec. 3.2). Trajectories come back as dicts of arrays: t (n,), R (n, 3, 3), Omega (n, 3),
-// energy (n,), and the run's stats as a dict.
+// energy (n,), and the run's stats as a dict. With the harness (LGVI_PYTHON_HARNESS): scenes,
+// simulate of a scene with every method, the suites, validate and the ocp solvers
+// (python/harness_bindings.cpp).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -26,6 +28,10 @@
 
 namespace py = pybind11;
 using lgvi::Mat3;
+
+#ifdef LGVI_PYTHON_HARNESS
+void bind_harness(py::module_& m);  // python/harness_bindings.cpp
+#endif
 using lgvi::Vec3;
 
 namespace {
@@ -368,4 +374,9 @@ PYBIND11_MODULE(lgvi, m) {
         py::arg("tolerance") = 1e-12, py::arg("max_iterations") = 100,
         "The paper's pendulum transfer (sec. 3.2: rest to rest, 180 deg about the vertical in 1 s) by "
         "indirect shooting (Newton-Armijo on lambda_0). Returns {t, R, Omega, energy, u, summary}.");
+  m.attr("has_harness") = false;
+#ifdef LGVI_PYTHON_HARNESS
+  bind_harness(m);
+  m.attr("has_harness") = true;
+#endif
 }

@@ -1,0 +1,580 @@
+// The harness part of the Python module `lgvi` (built when the harness is: LGVI_BUILD_HARNESS):
+// scenes (a TOML file, TOML text, or arguments), `simulate` of a scene with any registered
+// method, the suites, `validate`, and the optimal control commands (indirect and direct,
+// SLSQP and IPOPT). Each function goes through the same code as the CLI (load_scene, simulate,
+// run_suite, compute_metrics/compare, run_ocp_command), so its validation, its files and its
+// numbers are the CLI's; results come back as numpy arrays and dicts read from the files the
+// run wrote (the CSVs' numbers are written in round-trip form, so nothing is lost).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <toml++/toml.h>
+
+#include <charconv>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <unistd.h>
+#include <variant>
+#include <vector>
+
+#include "experiments/atomic_file.hpp"
+#include "experiments/method.hpp"
+#include "experiments/ocp_command.hpp"
+#include "experiments/plot.hpp"
+#include "experiments/scene.hpp"
+#include "experiments/simulate.hpp"
+#include "experiments/suite.hpp"
+#include "experiments/validate.hpp"
+
+namespace py = pybind11;
+namespace fs = std::filesystem;
+namespace ex = lgvi::experiments;
+
+namespace {
+
+// --- files read back ------------------------------------------------------------------------------
+
+/// A CSV written by the harness: `# key: value` metadata lines (leading, and for a stream a
+/// trailer), one header row, numeric rows.
+struct CsvTable {
+  std::map<std::string, std::string> metadata;
+  std::vector<std::string> columns;
+  std::vector<double> values;  ///< row-major
+  std::size_t rows = 0;
+};
+
+CsvTable read_csv(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw ex::OutputError(file.string() + ": cannot be read");
+  CsvTable table;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    if (line.front() == '#') {
+      const std::size_t colon = line.find(": ");
+      if (colon != std::string::npos && colon > 2) table.metadata[line.substr(2, colon - 2)] = line.substr(colon + 2);
+      continue;
+    }
+    std::vector<std::string> cells;
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t comma = line.find(',', start);
+      cells.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    if (table.columns.empty()) {
+      table.columns = std::move(cells);
+      continue;
+    }
+    if (cells.size() != table.columns.size()) {
+      throw ex::OutputError(file.string() + ": a row has " + std::to_string(cells.size()) + " cells, the header " +
+                            std::to_string(table.columns.size()));
+    }
+    for (const std::string& c : cells) {
+      double x = std::numeric_limits<double>::quiet_NaN();  // an empty cell: no value
+      if (!c.empty()) {
+        const auto [end, ec] = std::from_chars(c.data(), c.data() + c.size(), x);
+        if (ec != std::errc() || end != c.data() + c.size()) {
+          // Not a number ("nan", "inf" are from_chars's own): the column is not numeric.
+          throw ex::OutputError(file.string() + ": cell '" + c + "' is not a number");
+        }
+      }
+      table.values.push_back(x);
+    }
+    ++table.rows;
+  }
+  return table;
+}
+
+/// The table as {column: (rows,) array} plus the paper's grouped variables where present:
+/// "R" (rows, 3, 3) from R11..R33, "Omega" (rows, 3) from Omega1..3, likewise x, v and the
+/// connected bodies' R1, R2, Omega1, Omega2.
+py::dict columns_dict(const CsvTable& t) {
+  const auto n = static_cast<py::ssize_t>(t.rows);
+  const std::size_t m = t.columns.size();
+  std::map<std::string, std::size_t> index;
+  for (std::size_t j = 0; j < m; ++j) index[t.columns[j]] = j;
+  py::dict columns;
+  for (std::size_t j = 0; j < m; ++j) {
+    py::array_t<double> a(n);
+    for (py::ssize_t i = 0; i < n; ++i) a.mutable_at(i) = t.values[static_cast<std::size_t>(i) * m + j];
+    columns[py::str(t.columns[j])] = a;
+  }
+  py::dict out;
+  out["columns"] = columns;
+  if (index.count("t") != 0) out["t"] = columns["t"];
+  for (const auto& [prefix, key] : {std::pair{"R", "R"}, std::pair{"R1_", "R1"}, std::pair{"R2_", "R2"}}) {
+    std::vector<std::size_t> js;
+    for (int a = 1; a <= 3; ++a)
+      for (int b = 1; b <= 3; ++b) {
+        const auto it = index.find(prefix + std::to_string(a) + std::to_string(b));
+        if (it != index.end()) js.push_back(it->second);
+      }
+    if (js.size() != 9) continue;
+    py::array_t<double> R({n, py::ssize_t{3}, py::ssize_t{3}});
+    for (py::ssize_t i = 0; i < n; ++i)
+      for (int k = 0; k < 9; ++k) R.mutable_at(i, k / 3, k % 3) = t.values[static_cast<std::size_t>(i) * m + js[k]];
+    out[key] = R;
+  }
+  for (const auto& [prefix, key] : {std::pair{"Omega", "Omega"}, std::pair{"x", "x"}, std::pair{"v", "v"},
+                                    std::pair{"Omega1_", "Omega1"}, std::pair{"Omega2_", "Omega2"}}) {
+    std::vector<std::size_t> js;
+    for (int a = 1; a <= 3; ++a) {
+      const auto it = index.find(prefix + std::to_string(a));
+      if (it != index.end()) js.push_back(it->second);
+    }
+    if (js.size() != 3) continue;
+    py::array_t<double> v({n, py::ssize_t{3}});
+    for (py::ssize_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) v.mutable_at(i, k) = t.values[static_cast<std::size_t>(i) * m + js[k]];
+    out[key] = v;
+  }
+  py::dict metadata;
+  for (const auto& [k, v] : t.metadata) metadata[py::str(k)] = v;
+  out["metadata"] = metadata;
+  return out;
+}
+
+py::object json_loads(const std::string& text) { return py::module_::import("json").attr("loads")(text); }
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw ex::OutputError(file.string() + ": cannot be read");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Every line of a JSON-lines file as a dict.
+py::list read_jsonl(const fs::path& file) {
+  py::list rows;
+  std::istringstream in(read_text(file));
+  std::string line;
+  while (std::getline(in, line)) {
+    if (!line.empty()) rows.append(json_loads(line));
+  }
+  return rows;
+}
+
+py::object field_value(const ex::FieldValue& v) {
+  return std::visit([](const auto& x) -> py::object { return py::cast(x); }, v);
+}
+
+py::dict fields_dict(const ex::Fields& fields) {
+  py::dict d;
+  for (const ex::Field& f : fields) d[py::str(f.key)] = field_value(f.value);
+  return d;
+}
+
+/// A directory of its own under the system's temporary directory, removed on destruction (the
+/// files of a run whose caller did not ask to keep them).
+class ScratchDir {
+ public:
+  ScratchDir() {
+    std::string pattern = (fs::temp_directory_path() / "lgvi-python-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) throw ex::OutputError(pattern + ": cannot create a temporary directory");
+    path_ = pattern;
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// --- scenes ---------------------------------------------------------------------------------------
+
+using TomlValue = std::variant<bool, std::int64_t, double, std::string, toml::table, toml::array>;
+
+/// A Python value as a TOML value: bool, integer, float (Python's or numpy's), str, a sequence
+/// (list, tuple, numpy array) as an array, a dict as a table. Anything else is a ValueError
+/// naming `path` (the dotted key).
+TomlValue to_toml(const py::handle& value, const std::string& path) {
+  const py::module_ numpy = py::module_::import("numpy");
+  if (py::isinstance<py::bool_>(value) || py::isinstance(value, numpy.attr("bool_"))) return value.cast<bool>();
+  if (py::isinstance<py::int_>(value) || py::isinstance(value, numpy.attr("integer"))) {
+    return value.cast<std::int64_t>();
+  }
+  if (py::isinstance<py::float_>(value) || py::isinstance(value, numpy.attr("floating"))) return value.cast<double>();
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::dict>(value)) {
+    toml::table table;
+    for (const auto& [k, v] : value.cast<py::dict>()) {
+      const std::string key = py::str(k).cast<std::string>();
+      std::visit([&](auto&& x) { table.insert_or_assign(key, std::move(x)); }, to_toml(v, path + "." + key));
+    }
+    return table;
+  }
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value) || py::isinstance<py::array>(value)) {
+    const py::object items =
+        py::isinstance<py::array>(value) ? value.attr("tolist")() : py::reinterpret_borrow<py::object>(value);
+    toml::array array;
+    for (const py::handle item : items) {
+      std::visit([&](auto&& x) { array.push_back(std::move(x)); }, to_toml(item, path));
+    }
+    return array;
+  }
+  throw py::value_error(path + ": not a number, string, sequence or dict (got " +
+                        py::str(value.get_type().attr("__name__")).cast<std::string>() + ")");
+}
+
+void insert_toml(toml::table& table, const std::string& key, const py::handle& value) {
+  std::visit([&](auto&& x) { table.insert_or_assign(key, std::move(x)); }, to_toml(value, key));
+}
+
+ex::SceneOverrides overrides_of(std::optional<double> h, std::optional<double> t_final,
+                                std::optional<std::string> form, std::optional<std::int64_t> output_every) {
+  ex::SceneOverrides o;
+  o.h = h;
+  o.t_final = t_final;
+  if (form) o.form = lgvi::parse_lgvi_form(*form);
+  o.output_every = output_every;
+  return o;
+}
+
+fs::path scenes_dir_or_default(const std::optional<fs::path>& dir) { return dir ? *dir : ex::default_scenes_dir(); }
+
+/// A scene from arguments: the same table a scene file holds (experiments/scene.hpp), written as
+/// TOML and validated by the same parser, so its errors name the same fields.
+ex::Scene make_scene(const std::string& system, const py::dict& parameters, const py::dict& initial, double h,
+                     double t_final, const std::string& form, std::int64_t output_every,
+                     const std::optional<py::dict>& control, const std::string& name,
+                     const std::optional<std::string>& description) {
+  toml::table table;
+  table.insert_or_assign("system", system);
+  if (description) table.insert_or_assign("description", *description);
+  insert_toml(table, "parameters", parameters);
+  if (!initial.empty()) insert_toml(table, "initial", initial);
+  toml::table integration;
+  integration.insert_or_assign("h", h);
+  integration.insert_or_assign("t_final", t_final);
+  integration.insert_or_assign("form", form);
+  integration.insert_or_assign("output_every", output_every);
+  table.insert_or_assign("integration", std::move(integration));
+  if (control) insert_toml(table, "control", *control);
+  std::ostringstream text;
+  text << table;
+  return ex::parse_scene(text.str(), fs::path(name + ".toml"));
+}
+
+// --- simulate -------------------------------------------------------------------------------------
+
+py::dict simulate_scene(const ex::Scene& scene, const std::string& method_name, std::optional<std::string> model,
+                        std::optional<double> rtol, std::optional<double> atol, std::optional<fs::path> csv) {
+  ex::MethodOptions options;
+  options.model = std::move(model);
+  options.rtol = rtol;
+  options.atol = atol;
+  const std::unique_ptr<ex::Method> method = ex::make_method(method_name, options);
+  std::optional<ScratchDir> scratch;
+  if (!csv) scratch.emplace();
+  const fs::path file = csv ? *csv : scratch->path() / (scene.name + ".csv");
+  ex::RunSummary summary;
+  {
+    py::gil_scoped_release release;
+    summary = ex::simulate(scene, *method, {file, "python: lgvi.simulate", {}});
+  }
+  py::dict out = columns_dict(read_csv(file));
+  out["summary"] = fields_dict(summary.to_fields());
+  out["csv"] = csv ? py::cast(*csv) : py::object(py::none());
+  return out;
+}
+
+py::list method_list() {
+  py::list out;
+  for (const ex::MethodInfo& info : ex::method_registry()) {
+    py::dict d;
+    d["name"] = info.name;
+    d["family"] = info.family == ex::MethodFamily::Lgvi           ? "lgvi"
+                  : info.family == ex::MethodFamily::ComposedLgvi ? "composed-lgvi"
+                                                                  : "baseline";
+    d["order"] = info.order;
+    d["stages"] = info.stages;
+    d["fixed_step"] = info.fixed_step();
+    d["uses_jacobian"] = info.uses_jacobian;
+    py::list models;
+    for (const auto m : info.models) models.append(std::string(lgvi::baselines::to_string(m)));
+    d["models"] = models;
+    d["takes_form"] = info.takes_form;
+    d["legend"] = info.legend;
+    out.append(d);
+  }
+  return out;
+}
+
+// --- suites ---------------------------------------------------------------------------------------
+
+py::list suite_cases(const std::string& name, bool quick, const std::optional<fs::path>& scenes_dir) {
+  const ex::Suite suite = ex::make_suite(name, ex::SuiteParams{quick, scenes_dir_or_default(scenes_dir)});
+  py::list out;
+  for (const ex::SuiteCase& c : suite.cases) {
+    py::dict d;
+    d["id"] = c.id;
+    d["group"] = c.group;
+    d["expected"] = std::string(ex::to_string(c.expect));
+    d["labels"] = fields_dict(c.labels);
+    d["timed"] = c.job->timed();
+    out.append(d);
+  }
+  return out;
+}
+
+/// Runs a suite into `out` (created) like `lgvi-testbed suite`, returns summary.jsonl's rows.
+py::list run_suite(const std::string& name, const fs::path& out, bool quick, unsigned jobs,
+                   const std::optional<std::string>& shard, bool plots, const std::optional<fs::path>& scenes_dir,
+                   bool progress) {
+  if (jobs < 1) throw py::value_error("jobs: must be >= 1");
+  ex::SuiteOptions options;
+  options.out_dir = out;
+  options.scenes_dir = scenes_dir_or_default(scenes_dir);
+  options.plots_dir = ex::default_plots_dir();
+  options.gnuplot = ex::default_gnuplot();
+  options.plots = plots;
+  options.command_line = "python: lgvi.run_suite('" + name + "')";
+  if (shard) options.shard = ex::parse_shard(*shard);
+  options.jobs = jobs;
+  options.quick = quick;
+  const ex::Suite suite = ex::make_suite(name, ex::SuiteParams{quick, options.scenes_dir});
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw ex::OutputError(out.string() + ": cannot create the output directory: " + ec.message());
+  std::ostringstream log;
+  {
+    py::gil_scoped_release release;
+    (void)ex::run_suite(suite, options, log);
+  }
+  if (progress) py::print(log.str(), py::arg("end") = "", py::arg("file") = py::module_::import("sys").attr("stderr"));
+  return read_jsonl(out / "summary.jsonl");
+}
+
+// --- validate -------------------------------------------------------------------------------------
+
+py::object optional_number(const std::optional<double>& x) { return x ? py::cast(*x) : py::object(py::none()); }
+
+py::dict validate(bool quick, const std::vector<std::string>& only, const std::optional<fs::path>& accepted,
+                  const std::optional<fs::path>& scenes_dir) {
+  ex::ValidateOptions options;
+  options.quick = quick;
+  options.only = only;
+  options.scenes_dir = scenes_dir_or_default(scenes_dir);
+  const fs::path file = accepted ? *accepted : ex::default_accepted_file(quick);
+  const ex::AcceptedFile before = ex::read_accepted(file);
+  const std::string form = quick ? "quick" : "full";
+  if (!before.form.empty() && before.form != form) {
+    throw lgvi::InvalidInput(file.string(), "holds the " + before.form + " form's values; this run is the " + form +
+                                                " form (quick=" + (quick ? "True" : "False") + ")");
+  }
+  std::ostringstream log;
+  ex::ValidateReport report;
+  {
+    py::gil_scoped_release release;
+    const std::vector<ex::Metric> metrics = ex::compute_metrics(options, log);
+    report = ex::compare(metrics, before, only);
+  }
+  report.form = form;
+  report.version = ex::git_describe();
+  py::list rows;
+  for (const ex::MetricComparison& r : report.rows) {
+    py::dict d;
+    d["name"] = r.name;
+    d["kind"] = std::string(ex::to_string(r.kind));
+    d["paper"] = optional_number(r.paper);
+    d["accepted"] = optional_number(r.accepted);
+    d["now"] = optional_number(r.now);
+    d["verdict"] = std::string(ex::to_string(r.verdict));
+    d["seconds"] = r.seconds;
+    d["detail"] = r.detail;
+    rows.append(d);
+  }
+  py::dict counts;
+  for (const ex::Verdict v : {ex::Verdict::Pass, ex::Verdict::Regressed, ex::Verdict::Improved, ex::Verdict::New,
+                              ex::Verdict::Missing}) {
+    counts[ex::to_string(v)] = report.count(v);
+  }
+  std::ostringstream table;
+  ex::print_report(report, table);
+  py::dict out;
+  out["form"] = form;
+  out["accepted_file"] = file;
+  out["accepted_at"] = report.accepted_at;
+  out["version"] = report.version;
+  out["rows"] = rows;
+  out["counts"] = counts;
+  out["regressed"] = report.regressed();
+  out["table"] = table.str();
+  return out;
+}
+
+// --- optimal control ------------------------------------------------------------------------------
+
+/// `lgvi-testbed ocp SYSTEM` with the given options; ValueError for bad input (exit status 1).
+py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
+  ex::OcpCommand cmd;
+  cmd.system = system;
+  if (system != "pendulum" && system != "dumbbell" && !ex::is_direct_system(system)) {
+    throw py::value_error("system: must be 'pendulum', 'dumbbell', 'cart-pendulum' or 'connected-bodies' (got '" +
+                          system + "')");
+  }
+  std::optional<fs::path> keep;
+  for (const auto& [key_handle, value] : kwargs) {
+    const std::string key = py::str(key_handle);
+    if (key == "form") cmd.form = value.cast<std::string>();
+    else if (key == "h") cmd.h = value.cast<double>();
+    else if (key == "steps") cmd.steps = value.cast<long long>();
+    else if (key == "decomposition") cmd.no_decomposition = !value.cast<bool>();
+    else if (key == "merit") cmd.merit = value.cast<std::string>();
+    else if (key == "globalization") cmd.globalization = value.cast<std::string>();
+    else if (key == "guess") cmd.guess = value.cast<std::vector<double>>();
+    else if (key == "max_iterations") cmd.max_iterations = value.cast<int>();
+    else if (key == "t_final") cmd.t_final = value.cast<double>();
+    else if (key == "sphere_radius") cmd.sphere_radius = value.cast<double>();
+    else if (key == "knots") cmd.knots = value.cast<int>();
+    else if (key == "spline") cmd.spline = value.cast<std::string>();
+    else if (key == "gradients") cmd.gradients = value.cast<std::string>();
+    else if (key == "tolerance") cmd.tolerance = value.cast<double>();
+    else if (key == "starts") cmd.starts = value.cast<int>();
+    else if (key == "seed") cmd.seed = value.cast<long long>();
+    else if (key == "first_start") cmd.first_start = value.cast<int>();
+    else if (key == "solver") cmd.solver = value.cast<std::string>();
+    else if (key == "hessian") cmd.hessian = value.cast<std::string>();
+    else if (key == "shooting_interval") cmd.shooting_interval = value.cast<int>();
+    else if (key == "out") keep = value.cast<fs::path>();
+    else throw py::value_error(key + ": not an option of solve_ocp (see its docstring)");
+  }
+  std::optional<ScratchDir> scratch;
+  if (!keep) scratch.emplace();
+  cmd.out = (keep ? *keep : scratch->path()).string();
+  std::ostringstream out, err;
+  int status = 0;
+  {
+    py::gil_scoped_release release;
+    status = ex::run_ocp_command(cmd, "python: lgvi.solve_ocp('" + system + "')", out, err);
+  }
+  if (status == 1) {
+    std::string message = err.str();
+    while (!message.empty() && message.back() == '\n') message.pop_back();
+    throw py::value_error(message);
+  }
+  const fs::path dir = cmd.out;
+  py::dict result;
+  result["summary"] = json_loads(read_text(ex::ocp_output_file(dir, system, "summary.json")));
+  const fs::path trajectory = ex::ocp_output_file(dir, system, "trajectory.csv");
+  if (fs::exists(trajectory)) result["trajectory"] = columns_dict(read_csv(trajectory));
+  result["history"] = columns_dict(read_csv(ex::ocp_output_file(dir, system, "history.csv")));
+  const fs::path knots = ex::ocp_output_file(dir, system, "knots.csv");
+  if (fs::exists(knots)) result["knots"] = columns_dict(read_csv(knots));
+  result["converged"] = status == 0;
+  result["out"] = keep ? py::cast(*keep) : py::object(py::none());
+  return result;
+}
+
+}  // namespace
+
+void bind_harness(py::module_& m) {
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ex::SceneError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const ex::OutputError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    }
+  });
+
+  py::class_<ex::Scene>(m, "Scene",
+                        "A validated scene: system, parameters, initial state, horizon (experiments/scene.hpp). "
+                        "Made by load_scene, parse_scene or make_scene.")
+      .def_readonly("name", &ex::Scene::name)
+      .def_property_readonly("file", [](const ex::Scene& s) { return s.file; })
+      .def_readonly("description", &ex::Scene::description)
+      .def_property_readonly("system", [](const ex::Scene& s) { return std::string(s.system()); })
+      .def_property_readonly("h", [](const ex::Scene& s) { return s.horizon.h; })
+      .def_property_readonly("t_final", [](const ex::Scene& s) { return s.horizon.t_final; })
+      .def_property_readonly("steps", [](const ex::Scene& s) { return s.horizon.steps; })
+      .def_property_readonly("output_every", [](const ex::Scene& s) { return s.horizon.output_every; })
+      .def_property_readonly("form", [](const ex::Scene& s) { return std::string(lgvi::to_string(s.form)); })
+      .def("__repr__", [](const ex::Scene& s) {
+        return "<lgvi.Scene '" + s.name + "': " + s.system() + ", h = " + ex::shortest(s.horizon.h) +
+               ", t_final = " + ex::shortest(s.horizon.t_final) + ">";
+      });
+
+  m.def("scene_names", [](const std::optional<fs::path>& dir) { return ex::scene_names(scenes_dir_or_default(dir)); },
+        py::arg("scenes_dir") = py::none(), "Names of the scenes in scenes_dir (default: the shipped scenes).");
+  m.def("load_scene",
+        [](const std::string& scene, const std::optional<fs::path>& dir, std::optional<double> h,
+           std::optional<double> t_final, std::optional<std::string> form, std::optional<std::int64_t> every) {
+          return ex::load_scene(ex::resolve_scene(scene, scenes_dir_or_default(dir)),
+                                overrides_of(h, t_final, std::move(form), every));
+        },
+        py::arg("scene"), py::arg("scenes_dir") = py::none(), py::arg("h") = py::none(),
+        py::arg("t_final") = py::none(), py::arg("form") = py::none(), py::arg("output_every") = py::none(),
+        "A scene by name (in scenes_dir, default the shipped scenes) or by path (containing '/' or ending in "
+        "'.toml'); h, t_final, form, output_every replace the file's [integration] values. ValueError names "
+        "the file, field and reason.");
+  m.def("parse_scene",
+        [](const std::string& text, const std::string& name, std::optional<double> h, std::optional<double> t_final,
+           std::optional<std::string> form, std::optional<std::int64_t> every) {
+          return ex::parse_scene(text, fs::path(name + ".toml"), overrides_of(h, t_final, std::move(form), every));
+        },
+        py::arg("toml"), py::arg("name") = "scene", py::arg("h") = py::none(), py::arg("t_final") = py::none(),
+        py::arg("form") = py::none(), py::arg("output_every") = py::none(),
+        "A scene from TOML text in the scene file format (experiments/scene.hpp).");
+  m.def("make_scene", &make_scene, py::arg("system"), py::arg("parameters"), py::arg("initial") = py::dict(),
+        py::kw_only(), py::arg("h"), py::arg("t_final"), py::arg("form") = "symmetric", py::arg("output_every") = 1,
+        py::arg("control") = py::none(), py::arg("name") = "scene", py::arg("description") = py::none(),
+        "A scene from arguments: parameters, initial and control are the scene file's tables as dicts "
+        "(numbers, lists or numpy arrays), e.g. make_scene('free-body', {'inertia': [1, 2, 3]}, "
+        "{'Omega': [0.1, 1, 0.1]}, h=0.01, t_final=10). Validated like a scene file.");
+
+  m.def("methods", &method_list,
+        "Every registered method: name, family, order, stages, fixed_step, uses_jacobian, models, takes_form, "
+        "legend.");
+  m.def("simulate", &simulate_scene, py::arg("scene"), py::arg("method") = "lgvi", py::arg("model") = py::none(),
+        py::arg("rtol") = py::none(), py::arg("atol") = py::none(), py::arg("csv") = py::none(),
+        "Integrates a Scene with a method of methods() (baselines need model; adaptive ones take rtol/atol), "
+        "as `lgvi-testbed simulate`. Returns {columns: {name: array} (every CSV column), t, R (n, 3, 3), Omega "
+        "(n, 3) [x, v; R1, R2, Omega1, Omega2 for two bodies], metadata, summary (the run's JSON summary as a "
+        "dict), csv}. The CSV is kept at `csv` if given.");
+
+  m.def("suites", &ex::suite_list, "The suites: (name, description) pairs.");
+  m.def("suite_cases", &suite_cases, py::arg("name"), py::arg("quick") = true, py::arg("scenes_dir") = py::none(),
+        "The cases of a suite (id, group, expected, labels, timed), as `suite NAME --list`.");
+  m.def("run_suite", &run_suite, py::arg("name"), py::arg("out"), py::arg("quick") = true, py::arg("jobs") = 1,
+        py::arg("shard") = py::none(), py::arg("plots") = false, py::arg("scenes_dir") = py::none(),
+        py::arg("progress") = false,
+        "Runs a suite into the directory `out`, as `lgvi-testbed suite NAME --out OUT`; returns the summary's "
+        "rows (summary.jsonl) as a list of dicts, in case order. shard: 'i/N'. progress: print the progress "
+        "lines to stderr afterwards.");
+
+  m.def("metric_groups", &ex::metric_groups, "validate's metric groups: (name, description) pairs.");
+  m.def("validate", &validate, py::arg("quick") = true, py::arg("only") = std::vector<std::string>{},
+        py::arg("accepted") = py::none(), py::arg("scenes_dir") = py::none(),
+        "The regression gate, as `lgvi-testbed validate`: computes the metrics of the groups `only` (default "
+        "all) and compares them with the accepted file (default the shipped one of the form). Returns {form, "
+        "accepted_file, accepted_at, version, rows: [{name, kind, paper, accepted, now, verdict, seconds, "
+        "detail}], counts: {verdict: n}, regressed, table}. Accepting stays with the CLI.");
+
+  m.def("solve_ocp", &solve_ocp, py::arg("system"),
+        "Optimal control, as `lgvi-testbed ocp SYSTEM`: 'pendulum', 'dumbbell' (indirect shooting) or "
+        "'cart-pendulum', 'connected-bodies' (direct method; solver='slsqp' or 'ipopt'). Keyword options are "
+        "the CLI's with underscores: form, h, steps, decomposition, merit, globalization, guess, "
+        "max_iterations, t_final, sphere_radius, knots, spline, gradients, tolerance, starts, seed, "
+        "first_start, solver, hessian, shooting_interval; out: keep the files in this directory. Returns "
+        "{summary (the JSON summary), trajectory, history [, knots] (column dicts), converged, out}. "
+        "ValueError for bad input.");
+}
