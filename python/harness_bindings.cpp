@@ -281,6 +281,7 @@ py::dict simulate_scene(const ex::Scene& scene, const std::string& method_name, 
   options.rtol = rtol;
   options.atol = atol;
   const std::unique_ptr<ex::Method> method = ex::make_method(method_name, options);
+  if (csv && *csv == "-") throw py::value_error("csv: a file to keep the rows in ('-', standard output, is the CLI's)");
   std::optional<ScratchDir> scratch;
   if (!csv) scratch.emplace();
   const fs::path file = csv ? *csv : scratch->path() / (scene.name + ".csv");

@@ -97,6 +97,8 @@ def test_make_scene_is_the_scene_file_and_names_bad_fields():
         lgvi.make_scene("free-body", {"inertia": [1.0, 2.0, 2.5]}, spin, h=-0.1, t_final=1.0)
     with pytest.raises(ValueError, match="method"):
         lgvi.simulate(made, method="no-such-method")
+    with pytest.raises(ValueError, match="csv"):
+        lgvi.simulate(made, csv="-")
     with pytest.raises(ValueError, match="model"):
         lgvi.simulate(made, method="cvode-bdf")  # a baseline needs a coordinate model
     assert "free-body" in lgvi.scene_names()
