@@ -346,7 +346,7 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   std::vector<std::string> files;
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
-  std::vector<std::string> expected = {"summary.csv", "summary.jsonl"};
+  std::vector<std::string> expected = {"summary.csv", "summary.jsonl", "suite-journal.jsonl", "suite-run.json"};
   for (const char* scene : {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
                             "pendulum-controlled"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
@@ -385,7 +385,8 @@ TEST(CliSuite, NoPlotsWithACustomScenesDir) {
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
   EXPECT_EQ(files,
-            (std::vector<std::string>{"summary.csv", "summary.jsonl", "tiny-printed.csv", "tiny-symmetric.csv"}));
+            (std::vector<std::string>{"suite-journal.jsonl", "suite-run.json", "summary.csv", "summary.jsonl",
+                                      "tiny-printed.csv", "tiny-symmetric.csv"}));
 }
 
 }  // namespace
