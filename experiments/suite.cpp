@@ -103,8 +103,13 @@ Shard parse_shard(const std::string& text) {
 }
 
 std::vector<std::size_t> shard_cases(std::size_t cases, const Shard& shard) {
-  const std::size_t begin = shard.index * cases / shard.count;
-  const std::size_t end = (shard.index + 1) * cases / shard.count;
+  // In 128 bits: i n overflows 64 bits for N near 2^60 (and picked the wrong block).
+  using Wide = unsigned __int128;
+  const auto bound = [&](std::size_t i) {
+    return static_cast<std::size_t>(static_cast<Wide>(i) * cases / shard.count);
+  };
+  const std::size_t begin = bound(shard.index);
+  const std::size_t end = bound(shard.index + 1);
   std::vector<std::size_t> idx;
   for (std::size_t i = begin; i < end; ++i) idx.push_back(i);
   return idx;

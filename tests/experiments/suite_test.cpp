@@ -202,6 +202,17 @@ TEST(SuiteShards, TheShardsAreDisjointContiguousAndTheirUnionIsEveryCase) {
   }
 }
 
+TEST(SuiteShards, BlocksAreExactForShardCountsNear2To62) {
+  // i n / N in 128 bits: with 64 bits, i * 14 overflows for i >= 2^64 / 14 (~1.14 * 2^60): shard
+  // 2^62 - 1 of 2^62 got case 1 instead of 13.
+  const std::size_t n = std::size_t{1} << 62;
+  EXPECT_EQ(experiments::shard_cases(14, {n - 1, n}), std::vector<std::size_t>{13});
+  EXPECT_EQ(experiments::shard_cases(14, {n / 2 - 1, n}), std::vector<std::size_t>{6});
+  EXPECT_TRUE(experiments::shard_cases(14, {n / 2, n}).empty());
+  EXPECT_TRUE(experiments::shard_cases(14, {n - 2, n}).empty());
+  EXPECT_EQ(experiments::parse_shard("4611686018427387903/4611686018427387904").index, n - 1);
+}
+
 TEST(SuiteShards, ParsesIOverNAndRejectsTheRest) {
   const experiments::Shard s = experiments::parse_shard("2/5");
   EXPECT_EQ(s.index, 2u);
