@@ -10,7 +10,10 @@
 //   summary.jsonl      one JSON object per case per line (every field the job reported), which
 //                      concatenates the same way;
 //   figures/tables     rendered from summary.csv read back (render_suite), so a merged sharded
-//                      run is rendered by `suite NAME --render-only --out MERGED`.
+//                      run is rendered by `suite NAME --render-only --out MERGED`;
+//   suite-run.json, suite-journal.jsonl   the manifest and the per-case journal from which
+//                      --resume continues an interrupted run and `merge` joins shards
+//                      (experiments/suite_journal.hpp, experiments/merge_command.hpp).
 //
 // Timing: a case whose cost is a result (Job::timed(): the work-precision and long-horizon
 // cases) runs like any other in the pool of `--jobs` threads, which writes its files. Once every
