@@ -601,8 +601,8 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
                                         : " to run, " + std::to_string(finished_entries.size()) + " resumed")
            << " on " << threads << " thread" << (threads == 1 ? "" : "s") << "\n"
            << std::flush;
-  constexpr double kHeartbeatSeconds = 10.0;  // at most one heartbeat line per this interval
-  constexpr double kLongCaseSeconds = 5.0;    // about cases running longer than this
+  constexpr double kHeartbeatSeconds = 5.0;   // at most one heartbeat line per this interval
+  constexpr double kLongCaseSeconds = 3.0;    // about cases running longer than this
   auto last_output = Clock::now();
   for (std::size_t done = 0; done < total;) {
     std::unique_lock lock(mutex);

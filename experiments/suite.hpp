@@ -277,8 +277,8 @@ struct SuiteResult {
 /// the journal (suite_journal.hpp; with options.resume keeps the verified finished cases), then
 /// runs the others on `options.jobs` threads, appending each finished case to the journal and
 /// printing one progress line per finished case on `progress` (done/total, elapsed, remaining
-/// estimated from the remaining cases' expected cost) and a heartbeat every 10 s naming cases
-/// running for more than 5 s; writes summary.csv and summary.jsonl in case order and, unless
+/// estimated from the remaining cases' expected cost) and a heartbeat after 5 s without output naming cases
+/// running for more than 3 s; writes summary.csv and summary.jsonl in case order and, unless
 /// sharded or options.plots is false, renders.
 /// SIGINT or SIGTERM during the cases (and their timing): no new case starts; the summaries of
 /// the finished cases and the manifest (complete = false, interrupted_by) are written, this
