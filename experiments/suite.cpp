@@ -104,7 +104,7 @@ Shard parse_shard(const std::string& text) {
 
 std::vector<std::size_t> shard_cases(std::size_t cases, const Shard& shard) {
   // In 128 bits: i n overflows 64 bits for N near 2^60 (and picked the wrong block).
-  using Wide = unsigned __int128;
+  __extension__ typedef unsigned __int128 Wide;  // a GCC and Clang extension
   const auto bound = [&](std::size_t i) {
     return static_cast<std::size_t>(static_cast<Wide>(i) * cases / shard.count);
   };
