@@ -1,10 +1,14 @@
 #include "experiments/atomic_file.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <charconv>
 #include <cstring>
+#include <mutex>
+#include <set>
 
 namespace lgvi::experiments {
 
@@ -12,15 +16,31 @@ namespace fs = std::filesystem;
 
 namespace {
 std::string system_error(const std::string& what, int err) { return what + ": " + std::strerror(err); }
+
+constexpr std::string_view kTempPrefix = ".lgvi-tmp-";
+
+/// The temporaries of this process not yet committed or removed.
+struct LiveTemporaries {
+  std::mutex mutex;
+  std::set<fs::path> paths;
+};
+LiveTemporaries& live_temporaries() {
+  static LiveTemporaries* live = new LiveTemporaries;  // never destroyed: used until _Exit
+  return *live;
+}
 }  // namespace
 
 TempPath::TempPath(fs::path target) : target_(std::move(target)) {
   static std::atomic<unsigned long> counter{0};
   // Built by appending: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
-  std::string name = ".";
-  name.append(target_.filename().string()).append(".tmp-").append(std::to_string(::getpid()));
-  name.append("-").append(std::to_string(counter++)).append(target_.extension().string());
+  std::string name(kTempPrefix);
+  name.append(std::to_string(::getpid())).append("-").append(std::to_string(counter++));
+  const std::string ext = target_.extension().string();
+  if (ext.size() <= 16) name.append(ext);
   path_ = target_.parent_path() / name;
+  LiveTemporaries& live = live_temporaries();
+  const std::lock_guard lock(live.mutex);
+  live.paths.insert(path_);
 }
 
 TempPath::~TempPath() {
@@ -28,6 +48,9 @@ TempPath::~TempPath() {
     std::error_code ec;
     fs::remove(path_, ec);  // best effort; there is nothing more to do in a destructor
   }
+  LiveTemporaries& live = live_temporaries();
+  const std::lock_guard lock(live.mutex);
+  live.paths.erase(path_);
 }
 
 void TempPath::commit() {
@@ -35,6 +58,40 @@ void TempPath::commit() {
     throw OutputError(system_error(target_.string() + ": cannot rename the temporary file onto it", errno));
   }
   committed_ = true;
+  LiveTemporaries& live = live_temporaries();
+  const std::lock_guard lock(live.mutex);
+  live.paths.erase(path_);
+}
+
+std::size_t remove_live_temporaries() {
+  LiveTemporaries& live = live_temporaries();
+  const std::lock_guard lock(live.mutex);
+  std::size_t removed = 0;
+  for (const fs::path& p : live.paths) {
+    std::error_code ec;
+    removed += fs::remove(p, ec) ? 1 : 0;
+  }
+  live.paths.clear();
+  return removed;
+}
+
+std::size_t remove_stale_temporaries(const fs::path& dir) {
+  std::size_t removed = 0;
+  std::error_code ec;
+  fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec);
+  for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(kTempPrefix, 0) != 0) continue;
+    const char* first = name.data() + kTempPrefix.size();
+    const char* last = name.data() + name.size();
+    long pid = 0;
+    const auto [end, perr] = std::from_chars(first, last, pid);
+    if (perr != std::errc() || end == last || *end != '-' || pid <= 0) continue;
+    if (pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code rec;
+    if (it->is_regular_file(rec) && fs::remove(it->path(), rec)) ++removed;
+  }
+  return removed;
 }
 
 AtomicFile::AtomicFile(fs::path target) : temp_(std::move(target)) {

@@ -23,8 +23,12 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// A unique temporary path next to `target`: "<dir>/.<name>.tmp-<pid>-<n><extension>".
-/// The file (if any was created there) is removed by the destructor unless commit() renamed it.
+/// A unique temporary path next to `target`: "<dir>/.lgvi-tmp-<pid>-<n><extension>" (the
+/// extension only when at most 16 bytes), short whatever the target's name, so that any target
+/// name the file system admits (up to 255 bytes) has a temporary. The file (if any was created
+/// there) is removed by the destructor unless commit() renamed it. Live temporaries are
+/// registered process-wide (remove_live_temporaries); a killed process leaves its own, which
+/// remove_stale_temporaries recognizes by the pattern and the dead pid.
 class TempPath {
  public:
   explicit TempPath(std::filesystem::path target);
@@ -43,6 +47,14 @@ class TempPath {
   std::filesystem::path path_;
   bool committed_ = false;
 };
+
+/// Removes every temporary of this process not yet committed or removed (a run interrupted by a
+/// signal, about to _Exit: destructors will not run). Best effort; returns how many were removed.
+std::size_t remove_live_temporaries();
+
+/// Removes, in `dir` and below, the temporaries ".lgvi-tmp-<pid>-..." of processes that no longer
+/// exist (kill(pid, 0) fails with ESRCH), left by killed runs. Returns how many were removed.
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 
 /// A file written through a temporary and published by commit().
 class AtomicFile {

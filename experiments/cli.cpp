@@ -10,6 +10,7 @@
 #include "experiments/atomic_file.hpp"
 #include "experiments/check_against.hpp"
 #include "experiments/figures_command.hpp"
+#include "experiments/merge_command.hpp"
 #include "experiments/method.hpp"
 #include "experiments/ocp_command.hpp"
 #include "experiments/plot.hpp"
@@ -89,7 +90,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         "2 a run stopped early (rotation update failed, a non-finite state, a baseline solver failed or hit\n"
         "  gimbal lock; the CSV of the completed steps is written), or a suite case did not end as expected;\n"
         "3 results could not be written (file system, gnuplot);\n"
-        "4 validate or suite --check-against: a metric regressed against its accepted value.");
+        "4 validate or suite --check-against: a metric regressed against its accepted value;\n"
+        "130, 143 suite interrupted by SIGINT, SIGTERM (the finished cases' summaries written; --resume).");
     std::string scenes_dir = default_scenes_dir().string();
     app.add_option("--scenes-dir", scenes_dir, "Directory of the named scenes (NAME.toml)")->capture_default_str();
 
@@ -124,8 +126,14 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     sim->add_option("--method", method_name, method_help)->capture_default_str();
     CLI::Option* model_opt = sim->add_option(
         "--model", model_name, "Baseline's coordinate model: quaternion | quaternion-renormalized | euler | matrix");
-    CLI::Option* rtol_opt = sim->add_option("--rtol", rtol, "Adaptive baseline's relative tolerance (default 1e-6)");
-    CLI::Option* atol_opt = sim->add_option("--atol", atol, "Adaptive baseline's absolute tolerance (default: rtol)");
+    // Bounds: below 1e-15 a relative tolerance asks for less than ~5 ulp (no solver can give it);
+    // above 0.1 (an error of 10%) the run is no solution (rtol = 1e308 ran to a non-finite state).
+    CLI::Option* rtol_opt = sim->add_option("--rtol", rtol, "Adaptive baseline's relative tolerance, in [1e-15, 0.1] "
+                                                            "(default 1e-6)")
+                                ->check(number_in(1e-15, 0.1, false, "[1e-15, 0.1]"));
+    CLI::Option* atol_opt = sim->add_option("--atol", atol, "Adaptive baseline's absolute tolerance, in [1e-300, 0.1] "
+                                                            "(default: rtol)")
+                                ->check(number_in(1e-300, 0.1, false, "[1e-300, 0.1]"));
 
     CLI::App* suite_cmd = app.add_subcommand(
         "suite", "Run a suite of independent cases in parallel: CSV per case, summary.csv/.jsonl, figures");
@@ -152,6 +160,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     suite_cmd->add_option("--jobs", jobs, "Cases run in parallel (default: hardware threads)")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    bool resume = false;
+    suite_cmd->add_flag("--resume", resume,
+                        "Continue the run in OUT (interrupted, killed): keep the finished cases whose files "
+                        "verify, run the rest; the same suite, --quick, --shard and version only");
     suite_cmd->add_flag("--render-only", render_only,
                         "Only draw the figures and tables from OUT/summary.csv and the case CSVs (merged shards)");
     suite_cmd->add_flag("--no-plots", no_plots, "Skip the gnuplot figures and tables");
@@ -186,6 +198,15 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     validate_cmd->add_flag("--degraded-rotation-update", degraded,
                            "Run the single-body LGVIs with a degraded rotation update (relative tolerance 1e-9 "
                            "instead of 16 eps, no polishing step): shows that the gate catches it (exit 4)");
+    CLI::App* merge_cmd = app.add_subcommand(
+        "merge", "Join the output directories of the shards of one suite run (suite --shard i/N) into OUT");
+    std::string merge_out;
+    std::vector<std::string> merge_shards_dirs;
+    merge_cmd->add_option("OUT", merge_out, "Directory to write the merged run into")->required();
+    merge_cmd->add_option("SHARD_DIR", merge_shards_dirs,
+                          "The shards' output directories, all N of them (any order); each must be complete")
+        ->required();
+
     OcpCommand ocp_options;
     CLI::App* ocp_cmd = add_ocp_command(app, ocp_options);
     FiguresCommand figures_options;
@@ -237,6 +258,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       }
       return result.regressed() ? kExitRegressed : kExitOk;
     }
+    if (merge_cmd->parsed()) {
+      std::vector<fs::path> dirs(merge_shards_dirs.begin(), merge_shards_dirs.end());
+      merge_shards(merge_out, dirs, out);
+      return kExitOk;
+    }
     if (ocp_cmd->parsed()) return run_ocp_command(ocp_options, command_line, out, err);
     if (figures_cmd->parsed()) return run_figures_command(figures_options, command_line, out, err);
 
@@ -284,6 +310,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       options.command_line = command_line;
       options.shard = shard;
       options.jobs = jobs;
+      if (render_only && resume) throw InvalidInput("--resume", "runs cases; --render-only runs none");
+      options.resume = resume;
       if (render_only) {
         const std::vector<fs::path> files = render_suite(suite, options);
         out << "wrote " << files.size() << " figures and tables in " << options.out_dir.string() << "\n";

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <ostream>
 #include <sstream>
@@ -201,6 +202,18 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
 
 }  // namespace
 
+CLI::Validator number_in(double lo, double hi, bool lo_open, const std::string& range) {
+  return CLI::Validator(
+      [lo, hi, lo_open, range](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        const bool parsed = !text.empty() && end == text.c_str() + text.size();
+        if (parsed && std::isfinite(x) && (lo_open ? x > lo : x >= lo) && x <= hi) return "";
+        return "must be a number in " + range + " (got '" + text + "')";
+      },
+      range);
+}
+
 CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   CLI::App* cmd = app.add_subcommand(
       "ocp", "Discrete optimal control: indirect (sec. 3.1, 3.2; Newton-Armijo shooting on the initial multiplier) or direct (sec. 4.1, 4.2; spline knots by SLSQP); "
@@ -210,9 +223,14 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
       ->required()
       ->check(CLI::IsMember({"dumbbell", "pendulum", "cart-pendulum", "connected-bodies"}));
   cmd->add_option("--form", o.form, "LGVI form: printed (the paper's eqs.; default) | symmetric")->capture_default_str();
+  // Given options are checked when given (0 used to mean "the default" silently).
   cmd->add_option("--h", o.h, "Time step (the horizon must be a whole number of steps; default: pendulum 0.001, "
-                              "dumbbell pi/2000)");
-  cmd->add_option("--steps", o.steps, "Number of steps (instead of --h)");
+                              "dumbbell pi/2000)")
+      ->check(number_in(0.0, 1e100, true, "(0, 1e100]"));
+  // At most 10^6 steps: the shooting keeps every step's state and sensitivities (1e8 steps ended
+  // in std::bad_alloc); the paper's problems take 1000.
+  cmd->add_option("--steps", o.steps, "Number of steps (instead of --h), 1 .. 1000000")
+      ->check(number_in(1.0, 1e6, false, "[1, 1000000]"));
   cmd->add_flag("--no-decomposition", o.no_decomposition,
                 "Pendulum: invert the full (rank-deficient) sensitivity instead of its shape block");
   cmd->add_option("--merit", o.merit, "Line-search merit: velocity (default) | momentum")->capture_default_str();
@@ -223,7 +241,8 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
       ->delimiter(',');
   cmd->add_option("--max-iterations", o.max_iterations,
                   "Indirect: outer Newton iterations (default 300); direct: SLSQP evaluations per start (default 3000)");
-  cmd->add_option("--t-final", o.t_final, "Horizon (default: the paper's, pendulum 1, dumbbell pi/2)");
+  cmd->add_option("--t-final", o.t_final, "Horizon (default: the paper's, pendulum 1, dumbbell pi/2)")
+      ->check(number_in(0.0, 1e100, true, "(0, 1e100]"));
   cmd->add_option("--sphere-radius", o.sphere_radius,
                   "Dumbbell: radius of the two spheres (sets the rod-axis inertia; default 0.05, README)");
   cmd->add_option("--out", o.out, "Output directory")->capture_default_str();
@@ -250,6 +269,23 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
                   "Direct method: number of the first start run (0 = the default guess; K > 0 the K-th "
                   "seeded random start), so one start of a multistart can be rerun alone")
       ->capture_default_str();
+  // An option of the other method is an error, not silently ignored.
+  cmd->parse_complete_callback([cmd]() {
+    const std::string system = cmd->get_option("SYSTEM")->as<std::string>();
+    const bool direct = is_direct_system(system);
+    for (const char* name : {"--knots", "--spline", "--gradients", "--tolerance", "--starts", "--solver", "--hessian",
+                             "--shooting-interval", "--seed", "--first-start"}) {
+      if (!direct && cmd->count(name) > 0) {
+        throw CLI::ValidationError(name, "applies to the direct method only (cart-pendulum, connected-bodies), not to " +
+                                             system);
+      }
+    }
+    for (const char* name : {"--no-decomposition", "--merit", "--globalization", "--guess", "--sphere-radius"}) {
+      if (direct && cmd->count(name) > 0) {
+        throw CLI::ValidationError(name, "applies to the indirect method only (pendulum, dumbbell), not to " + system);
+      }
+    }
+  });
   return cmd;
 }
 

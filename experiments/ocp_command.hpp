@@ -13,6 +13,7 @@
 
 namespace CLI {
 class App;
+class Validator;
 }
 
 namespace lgvi::experiments {
@@ -43,6 +44,10 @@ struct OcpCommand {
   std::string hessian = "limited-memory";  ///< ipopt: or "cost"
   int shooting_interval = 0;            ///< ipopt: steps per shooting segment; 0: the default (20)
 };
+
+/// An option check: the value is a number in [lo, hi] (finite), else "must be a number in RANGE
+/// (got TEXT)" with `range` as the text of the range ("(0, 1e6]"). For CLI11's check().
+CLI::Validator number_in(double lo, double hi, bool lo_open, const std::string& range);
 
 /// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive
 /// parsing). Returns the subcommand, whose parsed() says whether it was chosen.

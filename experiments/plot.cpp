@@ -1,8 +1,10 @@
 #include "experiments/plot.hpp"
 
 #include <fcntl.h>
-#include <spawn.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -104,16 +106,23 @@ void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, cons
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
 
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, log.path().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = 0;
-  const int spawn_error = posix_spawn(&pid, gnuplot.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawn_error != 0) {
-    throw OutputError(png.string() + ": cannot run " + gnuplot + ": " + std::strerror(spawn_error));
+  // fork + exec rather than posix_spawn: the child asks the kernel for SIGTERM when this thread
+  // (which waits for it below) dies, so killing the harness, even with SIGKILL, never leaves
+  // gnuplot running. Between fork and exec the child calls async-signal-safe functions only.
+  const std::string log_path = log.path().string();
+  const pid_t parent = ::getpid();
+  const pid_t pid = fork();
+  if (pid < 0) throw OutputError(png.string() + ": cannot run " + gnuplot + ": " + std::strerror(errno));
+  if (pid == 0) {
+    if (prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || getppid() != parent) _exit(126);
+    const int in = open("/dev/null", O_RDONLY);
+    const int out_fd = open("/dev/null", O_WRONLY);
+    const int err_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (in < 0 || out_fd < 0 || err_fd < 0 || dup2(in, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(126);
+    execve(gnuplot.c_str(), argv.data(), environ);
+    const char msg[] = "cannot execute gnuplot\n";
+    (void)!write(2, msg, sizeof msg - 1);
+    _exit(127);
   }
   int status = 0;
   while (waitpid(pid, &status, 0) < 0) {

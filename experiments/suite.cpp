@@ -1,6 +1,7 @@
 #include "experiments/suite.hpp"
 
 #include <gsl/gsl_errno.h>
+#include <signal.h>
 #include <time.h>
 
 #include <algorithm>
@@ -17,10 +18,12 @@
 #include <set>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "experiments/atomic_file.hpp"
-#include "experiments/csv_writer.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/simulate.hpp"
+#include "experiments/suite_journal.hpp"
 #include "experiments/summary_metadata.hpp"
 
 namespace lgvi::experiments {
@@ -101,8 +104,13 @@ Shard parse_shard(const std::string& text) {
 }
 
 std::vector<std::size_t> shard_cases(std::size_t cases, const Shard& shard) {
-  const std::size_t begin = shard.index * cases / shard.count;
-  const std::size_t end = (shard.index + 1) * cases / shard.count;
+  // In 128 bits: i n overflows 64 bits for N near 2^60 (and picked the wrong block).
+  __extension__ typedef unsigned __int128 Wide;  // a GCC and Clang extension
+  const auto bound = [&](std::size_t i) {
+    return static_cast<std::size_t>(static_cast<Wide>(i) * cases / shard.count);
+  };
+  const std::size_t begin = bound(shard.index);
+  const std::size_t end = bound(shard.index + 1);
   std::vector<std::size_t> idx;
   for (std::size_t i = begin; i < end; ++i) idx.push_back(i);
   return idx;
@@ -273,43 +281,110 @@ std::vector<std::string> summary_columns(const Suite& suite) {
   return cols;
 }
 
-void write_summaries(const Suite& suite, const std::vector<std::size_t>& indices, const std::vector<CaseOutcome>& outcomes,
-                     const SuiteOptions& options) {
+std::string header_line(const Suite& suite) {
+  std::string header;
+  for (const std::string& c : summary_columns(suite)) header += (header.empty() ? "" : ",") + c;
+  return header;
+}
+
+/// The summary.csv and summary.jsonl lines (no newline) of one finished case.
+std::pair<std::string, std::string> summary_lines(const Suite& suite, const SuiteCase& c, const CaseOutcome& o,
+                                                  const SuiteOptions& options) {
   const std::vector<std::string> cols = summary_columns(suite);
-  AtomicFile csv(options.out_dir / "summary.csv");
-  AtomicFile jsonl(options.out_dir / "summary.jsonl");
-  if (options.shard.index == 0) {
-    csv.write(metadata_lines(summary_metadata(suite, cols, options.quick)));  // units, column meanings
-    std::string header;
-    for (const std::string& c : cols) header += (header.empty() ? "" : ",") + c;
-    csv.write(header + "\n");
-  }
-  for (std::size_t k = 0; k < indices.size(); ++k) {
-    Fields f = row_fields(suite.cases[indices[k]], outcomes[k]);
-    // Provenance of every row (summary.jsonl only): `suite --check-against` refuses to compare
-    // rows of another suite or form, and reports the versions compared.
-    const auto provenance = [&f](const std::string& key, FieldValue value) {
-      const auto same = [&key](const Field& x) { return x.key == key; };
-      f.erase(std::remove_if(f.begin(), f.end(), same), f.end());
-      f.push_back({key, std::move(value)});
-    };
-    provenance("suite", suite.name);
-    provenance("quick", options.quick);
-    provenance("git_describe", std::string(git_describe()));
-    std::string line;
-    for (std::size_t j = 0; j < cols.size(); ++j) {
-      const auto it = std::find_if(f.begin(), f.end(), [&](const Field& x) { return x.key == cols[j]; });
-      if (j > 0) line += ",";
-      if (it != f.end()) {
-        const auto* d = std::get_if<double>(&it->value);
-        line += (d != nullptr && !std::isfinite(*d)) ? std::string() : cell(to_text(it->value));
-      }
+  Fields f = row_fields(c, o);
+  // Provenance of every row (summary.jsonl only): `suite --check-against` refuses to compare
+  // rows of another suite or form, and reports the versions compared.
+  const auto provenance = [&f](const std::string& key, FieldValue value) {
+    const auto same = [&key](const Field& x) { return x.key == key; };
+    f.erase(std::remove_if(f.begin(), f.end(), same), f.end());
+    f.push_back({key, std::move(value)});
+  };
+  provenance("suite", suite.name);
+  provenance("quick", options.quick);
+  provenance("git_describe", std::string(git_describe()));
+  std::string line;
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    const auto it = std::find_if(f.begin(), f.end(), [&](const Field& x) { return x.key == cols[j]; });
+    if (j > 0) line += ",";
+    if (it != f.end()) {
+      const auto* d = std::get_if<double>(&it->value);
+      line += (d != nullptr && !std::isfinite(*d)) ? std::string() : cell(to_text(it->value));
     }
-    csv.write(line + "\n");
-    jsonl.write(to_json(f) + "\n");
   }
-  csv.commit();
-  jsonl.commit();
+  return {line, to_json(f)};
+}
+
+/// The outcome of a case kept from the journal, from its summary.jsonl line (no fields).
+CaseOutcome resumed_outcome(const JournalEntry& e) {
+  CaseOutcome o;
+  o.index = e.index;
+  o.id = e.id;
+  const nlohmann::json j = nlohmann::json::parse(e.jsonl_line, nullptr, false);
+  if (j.is_object()) {
+    o.result.status = j.value("status", std::string());
+    o.result.detail = j.value("detail", std::string());
+    o.result.completed = o.result.status == "completed";
+    o.as_expected = j.value("as_expected", false);
+    o.seconds = j.value("case_seconds", 0.0);
+  }
+  return o;
+}
+
+/// The signal that interrupted the run (0: none), set by the handler (a lock-free atomic store
+/// is async-signal-safe).
+std::atomic<int> g_interrupt{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+
+extern "C" void on_interrupt(int signo) { g_interrupt.store(signo); }
+
+/// SIGINT and SIGTERM handled (they set g_interrupt) while it lives; the previous actions after.
+class InterruptHandlers {
+ public:
+  InterruptHandlers() {
+    g_interrupt.store(0);
+    struct sigaction sa {};
+    sa.sa_handler = on_interrupt;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~InterruptHandlers() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  InterruptHandlers(const InterruptHandlers&) = delete;
+  InterruptHandlers& operator=(const InterruptHandlers&) = delete;
+
+ private:
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+};
+
+/// Expected cost of a case for the ETA; a job that cannot estimate counts as the mean of those
+/// that can (1 when none can).
+std::vector<double> expected_costs(const Suite& suite, const std::vector<std::size_t>& indices,
+                                   const fs::path& scenes_dir) {
+  std::vector<double> cost(indices.size(), 0.0);
+  double sum = 0.0;
+  std::size_t known = 0;
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    try {
+      cost[k] = suite.cases[indices[k]].job->expected_cost(scenes_dir);
+    } catch (const std::exception&) {
+      cost[k] = 0.0;
+    }
+    if (std::isfinite(cost[k]) && cost[k] > 0.0) {
+      sum += cost[k];
+      ++known;
+    } else {
+      cost[k] = 0.0;
+    }
+  }
+  const double fallback = known > 0 ? sum / static_cast<double>(known) : 1.0;
+  for (double& c : cost) {
+    if (c == 0.0) c = fallback;
+  }
+  return cost;
 }
 
 }  // namespace
@@ -362,6 +437,53 @@ std::vector<fs::path> render_suite(const Suite& suite, const SuiteOptions& optio
   return files;
 }
 
+namespace {
+
+const char* signal_name(int signo) { return signo == SIGINT ? "SIGINT" : signo == SIGTERM ? "SIGTERM" : "a signal"; }
+
+/// With --resume: the journal's entries of this shard whose run matches and whose files verify.
+/// Throws InvalidInput when OUT holds another run (suite, form, version, cases, scenes, shard).
+std::map<std::size_t, JournalEntry> resumable_entries(const Suite& suite, const SuiteOptions& options,
+                                                      const std::vector<std::size_t>& indices,
+                                                      const std::string& fingerprint, std::ostream& progress) {
+  const SuiteManifest m = read_manifest(options.out_dir);
+  const auto refuse = [&](const std::string& what) {
+    return InvalidInput("--resume", manifest_path(options.out_dir).string() + " records " + what +
+                                        "; resume only the same run (or choose another --out)");
+  };
+  if (m.suite != suite.name) throw refuse("suite '" + m.suite + "', not '" + suite.name + "'");
+  if (m.quick != options.quick) throw refuse(std::string("the ") + (m.quick ? "quick" : "full") + " form");
+  if (m.git_describe != git_describe()) throw refuse("version " + m.git_describe + ", this is " + git_describe());
+  if (m.shard_index != options.shard.index || m.shard_count != options.shard.count) {
+    throw refuse("shard " + std::to_string(m.shard_index) + "/" + std::to_string(m.shard_count));
+  }
+  if (m.fingerprint != fingerprint) throw refuse("other cases or scene files (fingerprint " + m.fingerprint + ")");
+  std::map<std::size_t, JournalEntry> kept;
+  std::size_t dropped = 0;
+  for (auto& [index, entry] : read_journal(options.out_dir)) {
+    std::string why;
+    if (std::find(indices.begin(), indices.end(), index) == indices.end() || entry.id != suite.cases[index].id) {
+      why = "not a case of this shard";
+    } else if (entry.fingerprint != fingerprint) {
+      why = "recorded by another run";
+    } else {
+      why = verify_files(options.out_dir, entry);
+    }
+    if (why.empty()) {
+      kept.emplace(index, std::move(entry));
+    } else {
+      ++dropped;
+      progress << "resume: running " << entry.id << " again (" << why << ")\n";
+    }
+  }
+  progress << "resume: " << kept.size() << " of " << indices.size() << " cases finished and verified"
+           << (dropped > 0 ? ", " + std::to_string(dropped) + " dropped" : std::string()) << "\n"
+           << std::flush;
+  return kept;
+}
+
+}  // namespace
+
 SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostream& progress) {
   const std::vector<std::size_t> indices = shard_cases(suite.cases.size(), options.shard);
   // Every case is checked before anything runs or is written.
@@ -375,6 +497,24 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
     fs::create_directories(parent, ec);
     if (ec) throw OutputError(parent.string() + ": cannot create the output directory: " + ec.message());
   }
+  if (const std::size_t stale = remove_stale_temporaries(options.out_dir); stale > 0) {
+    progress << "removed " << stale << " temporary files left by killed runs in " << options.out_dir.string() << "\n";
+  }
+
+  const std::string fingerprint = suite_fingerprint(suite, options.quick, options.scenes_dir);
+  // Shard 0's summary.csv starts with the metadata (units, column meanings), then the header.
+  const std::string header =
+      options.shard.index == 0
+          ? metadata_lines(summary_metadata(suite, summary_columns(suite), options.quick)) + header_line(suite)
+          : std::string();
+  std::map<std::size_t, JournalEntry> finished_entries;  // by index in the suite
+  if (options.resume) finished_entries = resumable_entries(suite, options, indices, fingerprint, progress);
+  SuiteManifest manifest{suite.name, options.quick, git_describe(), fingerprint,
+                         options.shard.index, options.shard.count, suite.cases.size(), indices.size(),
+                         finished_entries.size(), false, ""};
+  if (options.resume) rewrite_journal(options.out_dir, finished_entries);
+  write_manifest(options.out_dir, manifest);
+  JournalWriter journal(options.out_dir, /*truncate=*/!options.resume);
 
   // GSL's error handler is a process-wide pointer that the GSL adapter switches off and back on
   // around each run; switched off here once, before any worker starts, every run restores "off"
@@ -384,20 +524,62 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   const auto context = [&options](const SuiteCase& c) -> JobContext {
     return {options.out_dir, options.scenes_dir, c.id, options.command_line};
   };
-  const std::size_t total = indices.size();
+  // The cases still to run (positions k in `todo`, indices in the suite todo[k]).
+  std::vector<std::size_t> todo;
+  for (const std::size_t i : indices) {
+    if (finished_entries.count(i) == 0) todo.push_back(i);
+  }
+  const std::size_t total = todo.size();
+  const std::vector<double> cost = expected_costs(suite, todo, options.scenes_dir);
+  double cost_left = 0.0;
+  for (const double c : cost) cost_left += c;
+  double cost_done = 0.0;
   std::vector<CaseOutcome> outcomes(total);
   std::atomic<std::size_t> next{0};
   std::mutex mutex;
   std::condition_variable done_cv;
-  std::deque<std::size_t> finished;  // positions in `indices`, in completion order
+  std::deque<std::size_t> finished;             // positions in `todo`, in completion order
+  std::map<std::size_t, Clock::time_point> running;  // positions in `todo` -> start
 
+  // Records a finished case in the journal (this thread only).
+  const auto record = [&](std::size_t k) {
+    const SuiteCase& c = suite.cases[todo[k]];
+    const auto lines = summary_lines(suite, c, outcomes[k], options);
+    JournalEntry e{todo[k], c.id, fingerprint, lines.first, lines.second, {}};
+    e.files = digest_case_files(options.out_dir, e.jsonl_line);
+    journal.append(e);
+    finished_entries[todo[k]] = std::move(e);
+  };
+  // On SIGINT/SIGTERM (this thread): the summaries of what finished, then exit.
+  const auto end_interrupted = [&](int signo) {
+    manifest.finished = finished_entries.size();
+    manifest.interrupted_by = signal_name(signo);
+    try {
+      write_summaries_from(options.out_dir, header, finished_entries);
+      write_manifest(options.out_dir, manifest);
+    } catch (const std::exception& e) {
+      progress << "interrupted: " << e.what() << "\n";
+    }
+    remove_live_temporaries();
+    progress << "interrupted by " << signal_name(signo) << ": " << finished_entries.size() << " of "
+             << indices.size() << " cases finished, in " << (options.out_dir / "summary.csv").string()
+             << "; 'suite " << suite.name << " --resume' (same options) runs the rest\n"
+             << std::flush;
+    std::_Exit(128 + signo);
+  };
+
+  const InterruptHandlers interrupt_handlers;
   const auto worker = [&]() {
-    for (std::size_t k = next++; k < total; k = next++) {
-      const SuiteCase& c = suite.cases[indices[k]];
+    for (std::size_t k = next++; k < total && g_interrupt.load() == 0; k = next++) {
+      const SuiteCase& c = suite.cases[todo[k]];
       CaseOutcome& o = outcomes[k];
-      o.index = indices[k];
+      o.index = todo[k];
       o.id = c.id;
       const auto start = Clock::now();
+      {
+        const std::lock_guard lock(mutex);
+        running[k] = start;
+      }
       try {
         o.result = c.job->run(context(c));
       } catch (const std::exception& e) {
@@ -409,6 +591,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
       o.as_expected = as_expected(c.expect, o.result);
       {
         const std::lock_guard lock(mutex);
+        running.erase(k);
         finished.push_back(k);
       }
       done_cv.notify_one();
@@ -417,46 +600,90 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   const unsigned threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(options.jobs, total)));
   const auto start = Clock::now();
   std::vector<std::thread> pool;
-  for (unsigned t = 0; t < threads; ++t) pool.emplace_back(worker);
+  for (unsigned t = 0; t < threads && total > 0; ++t) pool.emplace_back(worker);
 
-  // Progress from this thread only.
+  // Progress, the journal and the summaries from this thread only.
   progress << "suite " << suite.name << ": " << total << " cases"
            << (options.shard.whole() ? std::string()
                                      : " (shard " + std::to_string(options.shard.index) + "/" +
                                            std::to_string(options.shard.count) + " of " +
                                            std::to_string(suite.cases.size()) + ")")
+           << (finished_entries.empty() ? std::string()
+                                        : " to run, " + std::to_string(finished_entries.size()) + " resumed")
            << " on " << threads << " thread" << (threads == 1 ? "" : "s") << "\n"
            << std::flush;
+  constexpr double kHeartbeatSeconds = 5.0;   // at most one heartbeat line per this interval
+  constexpr double kLongCaseSeconds = 3.0;    // about cases running longer than this
+  auto last_output = Clock::now();
   for (std::size_t done = 0; done < total;) {
     std::unique_lock lock(mutex);
-    done_cv.wait(lock, [&] { return !finished.empty(); });
+    done_cv.wait_for(lock, std::chrono::milliseconds(100), [&] { return !finished.empty(); });
+    if (const int signo = g_interrupt.load(); signo != 0) {
+      // Cases finished but not yet recorded count as finished.
+      std::deque<std::size_t> pending = finished;
+      finished.clear();
+      lock.unlock();
+      for (const std::size_t k : pending) {
+        if (!suite.cases[todo[k]].job->timed() || outcomes[k].result.status == "error") record(k);
+      }
+      end_interrupted(signo);
+    }
+    const auto now = Clock::now();
+    if (finished.empty()) {
+      if (std::chrono::duration<double>(now - last_output).count() < kHeartbeatSeconds) continue;
+      std::string longest;
+      for (const auto& [k, since] : running) {
+        const double secs = std::chrono::duration<double>(now - since).count();
+        if (secs >= kLongCaseSeconds) {
+          longest += (longest.empty() ? "" : ", ") + suite.cases[todo[k]].id + " (" + format_duration(secs) + ")";
+        }
+      }
+      lock.unlock();
+      if (!longest.empty()) {
+        progress << "  ... " << format_duration(std::chrono::duration<double>(now - start).count())
+                 << " elapsed, running: " << longest << "\n"
+                 << std::flush;
+      }
+      last_output = now;
+      continue;
+    }
     const std::size_t k = finished.front();
     finished.pop_front();
     lock.unlock();
     ++done;
-    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-    const double remaining = elapsed / static_cast<double>(done) * static_cast<double>(total - done);
+    const SuiteCase& c = suite.cases[todo[k]];
+    // A timed case is recorded once timed (below); an interrupted run runs it again.
+    if (!c.job->timed() || outcomes[k].result.status == "error") record(k);
+    cost_done += cost[k];
+    cost_left -= cost[k];
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    // Remaining: the time per unit of expected cost so far, times the cost of the cases left.
+    const double remaining = cost_done > 0.0 ? elapsed / cost_done * std::max(0.0, cost_left) : 0.0;
     const CaseOutcome& o = outcomes[k];
-    progress << "[" << done << "/" << total << "] " << format_duration(elapsed) << " elapsed, ~"
-             << format_duration(remaining) << " left  " << o.id << ": " << (o.as_expected ? "" : "UNEXPECTED ")
-             << o.result.status << " (" << o.result.detail << ")\n"
+    progress << "[" << done + (indices.size() - total) << "/" << indices.size() << "] " << format_duration(elapsed)
+             << " elapsed, ~" << format_duration(remaining) << " left  " << o.id << ": "
+             << (o.as_expected ? "" : "UNEXPECTED ") << o.result.status << " (" << o.result.detail << ")\n"
              << std::flush;
+    last_output = now;
   }
   for (std::thread& t : pool) t.join();
 
   // Timed cases on this thread with nothing else of the suite running (see the header): their
   // cost is measured apart from the parallel runs above.
-  std::vector<std::size_t> timed;  // positions in `indices`
+  std::vector<std::size_t> timed;  // positions in `todo`
   std::vector<std::function<TimedRun()>> timed_runs;
   for (std::size_t k = 0; k < total; ++k) {
-    const SuiteCase& c = suite.cases[indices[k]];
+    const SuiteCase& c = suite.cases[todo[k]];
     CaseOutcome& o = outcomes[k];
     if (!c.job->timed() || o.result.status == "error") continue;
     // An exception while timing turns the case into an error row; the other cases go on.
     std::string error;
     try {
       std::function<TimedRun()> run = c.job->prepare_timing(context(c), o.result);
-      if (!run) continue;
+      if (!run) {
+        record(k);
+        continue;
+      }
       timed.push_back(k);
       timed_runs.push_back(std::move(run));
     } catch (const std::exception& e) {
@@ -467,8 +694,10 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
     if (!error.empty()) {
       o.result = JobResult{false, "error", "timing: " + error, {}};
       o.as_expected = false;
+      record(k);
     }
   }
+  if (const int signo = g_interrupt.load(); signo != 0) end_interrupted(signo);
   if (!timed.empty()) {
     const TimingPolicy policy;
     progress << "timing " << timed.size() << " case" << (timed.size() == 1 ? "" : "s") << " in " << policy.rounds
@@ -479,6 +708,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
     std::size_t last_reported = 0;
     const std::vector<Timing> timings =
         time_serially(timed_runs, policy, [&](std::size_t round, std::size_t i) {
+          if (const int signo = g_interrupt.load(); signo != 0) end_interrupted(signo);
           // One progress line per pass and per tenth of it.
           const std::size_t done = round * timed.size() + i + 1;
           const std::size_t all = policy.rounds * timed.size();
@@ -491,7 +721,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
                    << std::flush;
         });
     for (std::size_t n = 0; n < timed.size(); ++n) {
-      const SuiteCase& c = suite.cases[indices[timed[n]]];
+      const SuiteCase& c = suite.cases[todo[timed[n]]];
       CaseOutcome& o = outcomes[timed[n]];
       if (timings[n].error.empty()) {
         const Fields more = c.job->timing_fields(timings[n]);
@@ -503,20 +733,29 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
       if (!o.as_expected) {
         progress << "timing " << o.id << ": UNEXPECTED " << o.result.status << " (" << o.result.detail << ")\n";
       }
+      record(timed[n]);
     }
   }
 
-  write_summaries(suite, indices, outcomes, options);
+  write_summaries_from(options.out_dir, header, finished_entries);
+  manifest.finished = finished_entries.size();
+  manifest.complete = true;
+  write_manifest(options.out_dir, manifest);
   progress << "wrote " << (options.out_dir / "summary.csv").string() << " and summary.jsonl\n";
 
   SuiteResult result;
-  result.cases = std::move(outcomes);
+  result.resumed = indices.size() - total;
+  for (const std::size_t i : indices) {
+    const auto at = std::find(todo.begin(), todo.end(), i);
+    result.cases.push_back(at != todo.end() ? std::move(outcomes[static_cast<std::size_t>(at - todo.begin())])
+                                            : resumed_outcome(finished_entries.at(i)));
+  }
   if (options.plots && options.shard.whole()) {
     result.files = render_suite(suite, options);
     progress << "wrote " << result.files.size() << " figures and tables in " << options.out_dir.string() << "\n";
   } else if (options.plots) {
-    progress << "sharded run: no figures; merge the shards and run 'suite " << suite.name
-             << " --render-only --out MERGED' (see README)\n";
+    progress << "sharded run: no figures; 'lgvi-testbed merge MERGED SHARD_DIR...' joins the shards, then run 'suite "
+             << suite.name << " --render-only --out MERGED' (see README)\n";
   }
   return result;
 }

@@ -12,7 +12,10 @@
 //   summary.jsonl      one JSON object per case per line (every field the job reported), which
 //                      concatenates the same way;
 //   figures/tables     rendered from summary.csv read back (render_suite), so a merged sharded
-//                      run is rendered by `suite NAME --render-only --out MERGED`.
+//                      run is rendered by `suite NAME --render-only --out MERGED`;
+//   suite-run.json, suite-journal.jsonl   the manifest and the per-case journal from which
+//                      --resume continues an interrupted run and `merge` joins shards
+//                      (experiments/suite_journal.hpp, experiments/merge_command.hpp).
 //
 // Timing: a case whose cost is a result (Job::timed(): the work-precision and long-horizon
 // cases) runs like any other in the pool of `--jobs` threads, which writes its files. Once every
@@ -139,6 +142,12 @@ class Job {
     (void)result;
     return {};
   }
+  /// The case's expected cost in arbitrary units proportional to its run time (integrator
+  /// cases: steps x force evaluations per step), for the ETA. The default, 1, counts cases.
+  virtual double expected_cost(const std::filesystem::path& scenes_dir) const {
+    (void)scenes_dir;
+    return 1.0;
+  }
   /// Timed jobs: the summary fields reporting `timing` (appended to the run's fields).
   virtual Fields timing_fields(const Timing& timing) const {
     (void)timing;
@@ -244,6 +253,9 @@ struct SuiteOptions {
   Shard shard;
   unsigned jobs = 1;  ///< worker threads (>= 1)
   bool quick = false;  ///< the suite's form, recorded in summary.jsonl
+  /// Keep the cases OUT's journal records as finished whose files verify (same suite, form,
+  /// version, fingerprint and shard; see suite_journal.hpp) and run the others.
+  bool resume = false;
 };
 
 struct CaseOutcome {
@@ -255,17 +267,26 @@ struct CaseOutcome {
 };
 
 struct SuiteResult {
-  std::vector<CaseOutcome> cases;  ///< the shard's cases, in case order
+  std::vector<CaseOutcome> cases;  ///< the shard's cases, in case order (resumed ones: no fields)
+  std::size_t resumed = 0;         ///< cases kept from the journal (--resume)
   std::vector<std::filesystem::path> files;  ///< figures and tables
   std::size_t unexpected() const;
   bool all_ok() const { return unexpected() == 0; }
 };
 
 /// Validates every case of the shard first (SceneError / InvalidInput before anything runs or
-/// is written), then runs them on `options.jobs` threads, printing one progress line per
-/// finished case on `progress` (done/total, elapsed, estimated remaining), writes summary.csv
-/// and summary.jsonl in case order and, unless sharded or options.plots is false, renders.
-/// Throws SceneError, InvalidInput, OutputError.
+/// is written), removes temporaries left in OUT by killed runs, writes the manifest and starts
+/// the journal (suite_journal.hpp; with options.resume keeps the verified finished cases), then
+/// runs the others on `options.jobs` threads, appending each finished case to the journal and
+/// printing one progress line per finished case on `progress` (done/total, elapsed, remaining
+/// estimated from the remaining cases' expected cost) and a heartbeat after 5 s without output naming cases
+/// running for more than 3 s; writes summary.csv and summary.jsonl in case order and, unless
+/// sharded or options.plots is false, renders.
+/// SIGINT or SIGTERM during the cases (and their timing): no new case starts; the summaries of
+/// the finished cases and the manifest (complete = false, interrupted_by) are written, this
+/// process's temporaries removed, and the process ends with status 128 + signal (std::_Exit:
+/// the running cases cannot be joined); `--resume` finishes the run.
+/// Throws SceneError, InvalidInput (also: --resume on a directory of another run), OutputError.
 SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostream& progress);
 
 /// Reads OUT/summary.csv (of a run or of concatenated shards) and renders the suite's figures.

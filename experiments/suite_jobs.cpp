@@ -1,5 +1,6 @@
 #include "experiments/suite_jobs.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -101,6 +102,14 @@ void SimulateJob::validate(const fs::path& scenes_dir) const {
   // The scene file and the method; the edit (a sweep's extreme value) is judged at run time.
   (void)load_scene(resolve_scene(spec_.scene, scenes_dir), spec_.overrides);
   (void)make_method(spec_.method, spec_.options);
+}
+
+double SimulateJob::expected_cost(const fs::path& scenes_dir) const {
+  const Scene scene = spec_.load(scenes_dir);
+  const MethodInfo& kind = method_info(spec_.method);
+  if (kind.fixed_step()) return static_cast<double>(scene.horizon.steps) * static_cast<double>(std::max<std::size_t>(1, kind.stages));
+  const double rtol = spec_.options.rtol.value_or(1e-6);
+  return scene.horizon.t_final * std::pow(std::max(rtol, 1e-16), -0.2) * 7.0;
 }
 
 JobResult SimulateJob::run(const JobContext& ctx) const {

@@ -94,6 +94,10 @@ class SimulateJob final : public Job {
   /// and, with a reference, "final_error" and "reference".
   JobResult run(const JobContext& ctx) const override;
   bool timed() const override { return spec_.timed; }
+  /// Force (RHS) evaluations the run is expected to make: steps x stages for a fixed-step
+  /// method; for an adaptive one (stages vary) a rough t_final x rtol^(-1/5) steps of 7
+  /// evaluations (a 5th-order pair; only the ETA uses it). Loads the scene.
+  double expected_cost(const std::filesystem::path& scenes_dir) const override;
   /// The same integration as run() with a recorder that writes nothing; the recorder's own time
   /// (diagnostics) is the uncounted part, as run() takes it out of integrator_seconds.
   std::function<TimedRun()> prepare_timing(const JobContext& ctx, const JobResult& result) const override;

@@ -83,6 +83,18 @@ TEST_P(CliBadArguments, ExitOneWithOneLineAndNoOutput) {
 INSTANTIATE_TEST_SUITE_P(
     All, CliBadArguments,
     ::testing::Values(
+        // Options out of their stated ranges, and options of the other ocp method: rejected
+        // (they used to mean "the default" silently, end in std::bad_alloc, or be ignored).
+        BadArgs{"ocp_h_zero", {"ocp", "pendulum", "--h", "0"}, {"--h", "(0, 1e100]"}},
+        BadArgs{"ocp_steps_zero", {"ocp", "pendulum", "--steps", "0"}, {"--steps", "[1, 1000000]"}},
+        BadArgs{"ocp_steps_huge", {"ocp", "pendulum", "--steps", "1e8"}, {"--steps", "[1, 1000000]"}},
+        BadArgs{"ocp_t_final_zero", {"ocp", "dumbbell", "--t-final", "0"}, {"--t-final", "(0, 1e100]"}},
+        BadArgs{"ocp_direct_option_indirect", {"ocp", "pendulum", "--knots", "5"}, {"--knots", "direct method only"}},
+        BadArgs{"ocp_indirect_option_direct", {"ocp", "cart-pendulum", "--guess", "1,2"},
+                {"--guess", "indirect method only"}},
+        BadArgs{"rtol_huge", {"simulate", "free-body", "--method", "odeint-dopri5", "--model", "quaternion", "--rtol",
+                              "1e308"}, {"--rtol", "[1e-15, 0.1]"}},
+        BadArgs{"merge_no_manifest", {"merge", "merged", "/nonexistent-shard"}, {"suite-run.json", "cannot be read"}},
         BadArgs{"unknown_scene", {"simulate", "pendulm"},
                 {"pendulm", "unknown scene", "dumbbell", "free-body", "pendulum-controlled"}},
         BadArgs{"missing_file", {"simulate", "./nothing.toml"}, {"./nothing.toml", "cannot read"}},
@@ -347,7 +359,7 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   std::vector<std::string> files;
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
-  std::vector<std::string> expected = {"summary.csv", "summary.jsonl"};
+  std::vector<std::string> expected = {"summary.csv", "summary.jsonl", "suite-journal.jsonl", "suite-run.json"};
   for (const char* scene : {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
                             "pendulum-controlled"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
@@ -398,7 +410,8 @@ TEST(CliSuite, NoPlotsWithACustomScenesDir) {
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
   EXPECT_EQ(files,
-            (std::vector<std::string>{"summary.csv", "summary.jsonl", "tiny-printed.csv", "tiny-symmetric.csv"}));
+            (std::vector<std::string>{"suite-journal.jsonl", "suite-run.json", "summary.csv", "summary.jsonl",
+                                      "tiny-printed.csv", "tiny-symmetric.csv"}));
 }
 
 }  // namespace

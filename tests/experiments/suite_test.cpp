@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <random>
 #include <set>
 #include <thread>
 
@@ -201,6 +202,17 @@ TEST(SuiteShards, TheShardsAreDisjointContiguousAndTheirUnionIsEveryCase) {
   }
 }
 
+TEST(SuiteShards, BlocksAreExactForShardCountsNear2To62) {
+  // i n / N in 128 bits: with 64 bits, i * 14 overflows for i >= 2^64 / 14 (~1.14 * 2^60): shard
+  // 2^62 - 1 of 2^62 got case 1 instead of 13.
+  const std::size_t n = std::size_t{1} << 62;
+  EXPECT_EQ(experiments::shard_cases(14, {n - 1, n}), std::vector<std::size_t>{13});
+  EXPECT_EQ(experiments::shard_cases(14, {n / 2 - 1, n}), std::vector<std::size_t>{6});
+  EXPECT_TRUE(experiments::shard_cases(14, {n / 2, n}).empty());
+  EXPECT_TRUE(experiments::shard_cases(14, {n - 2, n}).empty());
+  EXPECT_EQ(experiments::parse_shard("4611686018427387903/4611686018427387904").index, n - 1);
+}
+
 TEST(SuiteShards, ParsesIOverNAndRejectsTheRest) {
   const experiments::Shard s = experiments::parse_shard("2/5");
   EXPECT_EQ(s.index, 2u);
@@ -375,6 +387,281 @@ TEST(SuiteAtomic, AKilledSuiteLeavesOnlyCompleteFiles) {
   ASSERT_TRUE(WIFSIGNALED(status)) << "the suite finished before it was killed: the test proves nothing";
   expect_complete_csvs(out);
   EXPECT_FALSE(fs::exists(out / "summary.csv"));  // written after all cases
+}
+
+// --- resume and merge ----------------------------------------------------------------------------
+
+/// summary.jsonl rows without the fields that measure time or quote it (they differ between
+/// runs): each row's `"key": value` parts (split before every ', "'), the timed keys dropped.
+std::vector<std::vector<std::string>> untimed_jsonl(const std::string& jsonl) {
+  std::vector<std::vector<std::string>> rows;
+  for (const std::string& line : lines_of(jsonl)) {
+    std::vector<std::string> kept;
+    std::size_t start = 1;  // after '{'
+    while (start < line.size()) {
+      std::size_t next = line.find(", \"", start);
+      if (next == std::string::npos) next = line.size() - 1;  // before '}'
+      const std::string field = line.substr(start, next - start);
+      const std::string key = field.substr(1, field.find("\":") - 1);
+      const bool timed = key.find("seconds") != std::string::npos || key == "detail" || key == "status_detail" ||
+                         key.find("cpu") != std::string::npos || key == "timing_repetitions";
+      if (!timed) kept.push_back(field);
+      start = next + 2;
+    }
+    rows.push_back(kept);
+  }
+  return rows;
+}
+
+/// The text of a manifest (suite-run.json), searched for "key": value pairs.
+struct ManifestText {
+  std::string text;
+  bool has(const std::string& part) const { return text.find(part) != std::string::npos; }
+};
+
+/// Starts lgvi-testbed with `args` in dir.work(), output discarded; returns its pid.
+pid_t spawn_testbed(const TempDir& dir, const std::vector<std::string>& args) {
+  std::vector<std::string> a = {LGVI_TESTBED_EXE};
+  a.insert(a.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& s : a) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  const std::string work = dir.work().string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null < 0 || chdir(work.c_str()) != 0) _exit(127);
+    dup2(null, 1);
+    dup2(null, 2);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+/// Journal lines with the completion marker.
+std::size_t journaled(const fs::path& out) {
+  std::size_t n = 0;
+  for (const std::string& line : lines_of(read_text(out / "suite-journal.jsonl"))) {
+    const std::string marker = "\"done\":true}";
+    if (line.size() >= marker.size() && line.compare(line.size() - marker.size(), marker.size(), marker) == 0) ++n;
+  }
+  return n;
+}
+
+/// Temporaries of lgvi-testbed left under `dir`.
+std::vector<std::string> temporaries(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.path().filename().string().rfind(".lgvi-tmp-", 0) == 0) names.push_back(e.path().string());
+  }
+  return names;
+}
+
+/// `count` copies of the pendulum scene (20,000 LGVI steps, ~10-30 ms per case), named s00...
+void pendulum_copies(const TempDir& dir, int count, const std::string& from = "t_final = 20.0",
+                     const std::string& to = "t_final = 20.0") {
+  for (int i = 0; i < count; ++i) {
+    const std::string name = std::string("s") + (i < 10 ? "0" : "") + std::to_string(i);
+    write_text(dir.scenes() / (name + ".toml"), edited_scene("pendulum", from, to));
+  }
+}
+
+TEST(SuiteResume, ARunKilledAtRandomPointsAndResumedEqualsAnUninterruptedOne) {
+  // 24 cases (12 scenes x 2 forms) killed three times, by SIGKILL, SIGTERM and SIGINT, once the
+  // journal holds a random number of finished cases (seeded), resumed each time, then finished.
+  TempDir dir;
+  pendulum_copies(dir, 12);
+  const std::vector<std::string> base = {"--scenes-dir", dir.scenes().string(), "suite", "default", "--no-plots",
+                                         "--jobs", "2"};
+  auto args = [&](std::vector<std::string> more) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  };
+  const CliResult whole = run_testbed(dir, args({"--out", "whole"}));
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  const std::size_t total = 24;
+  ASSERT_EQ(lines_of(read_text(dir.work() / "whole" / "summary.jsonl")).size(), total);
+
+  const fs::path out = dir.work() / "res";
+  std::mt19937 rng(16);
+  int interrupted = 0;
+  for (const int signo : {SIGKILL, SIGTERM, SIGINT}) {
+    const std::size_t before = fs::exists(out) ? journaled(out) : 0;
+    std::uniform_int_distribution<std::size_t> pick(before + 1, before + 6);
+    const std::size_t target = std::min(pick(rng), total - 1);
+    const pid_t pid =
+        spawn_testbed(dir, signo == SIGKILL ? args({"--out", "res"}) : args({"--out", "res", "--resume"}));
+    ASSERT_GT(pid, 0);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    int status = 0;
+    bool exited = false;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (waitpid(pid, &status, WNOHANG) == pid) {
+        exited = true;
+        break;
+      }
+      if (fs::exists(out / "suite-journal.jsonl") && journaled(out) >= target) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    if (!exited) {
+      kill(pid, signo);
+      waitpid(pid, &status, 0);
+    }
+    const ManifestText m{read_text(out / "suite-run.json")};
+    if (signo == SIGKILL) {
+      if (WIFSIGNALED(status)) ++interrupted;
+    } else if (WIFEXITED(status) && WEXITSTATUS(status) == 128 + signo) {
+      // Ended cleanly: the summary holds exactly the cases the manifest counts as finished.
+      ++interrupted;
+      EXPECT_TRUE(m.has("\"complete\": false")) << m.text;
+      EXPECT_TRUE(m.has(signo == SIGTERM ? "\"SIGTERM\"" : "\"SIGINT\"")) << m.text;
+      const std::size_t rows = lines_of(read_text(out / "summary.csv")).size() - 1;
+      EXPECT_TRUE(m.has("\"finished\": " + std::to_string(rows))) << m.text;
+      EXPECT_EQ(rows, journaled(out));
+      EXPECT_TRUE(temporaries(out).empty()) << temporaries(out).front();
+    }
+  }
+  EXPECT_GE(interrupted, 2) << "the runs ended before they were killed: the test proves little";
+  const CliResult rest = run_testbed(dir, args({"--out", "res", "--resume"}));
+  ASSERT_EQ(rest.exit_code, 0) << rest.err;
+  EXPECT_NE(rest.out.find("resume: "), std::string::npos) << rest.out;
+  EXPECT_EQ(untimed(read_text(out / "summary.csv")), untimed(read_text(dir.work() / "whole" / "summary.csv")));
+  EXPECT_EQ(untimed_jsonl(read_text(out / "summary.jsonl")),
+            untimed_jsonl(read_text(dir.work() / "whole" / "summary.jsonl")));
+  EXPECT_TRUE(temporaries(out).empty()) << temporaries(out).front();  // SIGKILL's are cleaned
+  EXPECT_NE(read_text(out / "suite-run.json").find("\"complete\": true"), std::string::npos);
+}
+
+TEST(SuiteResume, ResumeRerunsACaseWhoseFileChangedAndRefusesAnotherRun) {
+  TempDir dir;
+  pendulum_copies(dir, 2, "t_final = 20.0", "t_final = 0.1");
+  const std::vector<std::string> base = {"--scenes-dir", dir.scenes().string(), "suite", "default", "--no-plots",
+                                         "--out", "res"};
+  auto args = [&](std::vector<std::string> more) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  };
+  ASSERT_EQ(run_testbed(dir, base).exit_code, 0);
+  const std::string summary = read_text(dir.work() / "res" / "summary.csv");
+  // A case file cut short (a disk that filled, an edit): that case runs again, the others not.
+  const fs::path csv = dir.work() / "res" / "s00-symmetric.csv";
+  const std::string text = read_text(csv);
+  write_text(csv, text.substr(0, text.size() / 2));
+  const CliResult r = run_testbed(dir, args({"--resume"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("running s00-symmetric again"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("3 of 4 cases finished and verified"), std::string::npos) << r.out;
+  EXPECT_EQ(lines_of(read_text(csv)).size(), lines_of(text).size());  // written again, whole
+  EXPECT_EQ(untimed(read_text(dir.work() / "res" / "summary.csv")), untimed(summary));
+  // Another suite, form or scene file: refused, nothing run.
+  const CliResult quick = run_testbed(dir, args({"--resume", "--quick"}));
+  EXPECT_EQ(quick.exit_code, 1) << quick.err;
+  EXPECT_NE(quick.err.find("full form"), std::string::npos) << quick.err;
+  write_text(dir.scenes() / "s01.toml", edited_scene("pendulum", "t_final = 20.0", "t_final = 0.2"));
+  const CliResult edited = run_testbed(dir, args({"--resume"}));
+  EXPECT_EQ(edited.exit_code, 1) << edited.err;
+  EXPECT_NE(edited.err.find("other cases or scene files"), std::string::npos) << edited.err;
+  const CliResult other = run_testbed(dir, {"suite", "energy-drift", "--quick", "--out", "res", "--resume"});
+  EXPECT_EQ(other.exit_code, 1) << other.err;
+  EXPECT_NE(other.err.find("suite 'default', not 'energy-drift'"), std::string::npos) << other.err;
+}
+
+TEST(SuiteMerge, ShardsMergeIntoTheUnshardedRunAndIncompleteOrMismatchedShardsAreRefused) {
+  TempDir dir;
+  pendulum_copies(dir, 3, "t_final = 20.0", "t_final = 0.1");
+  const std::vector<std::string> base = {"--scenes-dir", dir.scenes().string(), "suite", "default"};
+  auto args = [&](std::vector<std::string> more) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  };
+  ASSERT_EQ(run_testbed(dir, args({"--out", "whole", "--no-plots"})).exit_code, 0);
+  for (int i = 0; i < 3; ++i) {
+    const std::string s = std::to_string(i);
+    ASSERT_EQ(run_testbed(dir, args({"--out", "shard-" + s, "--shard", s + "/3"})).exit_code, 0);
+  }
+  const auto merge = [&](const std::vector<std::string>& shards) {
+    std::vector<std::string> a = {"merge", "merged"};
+    a.insert(a.end(), shards.begin(), shards.end());
+    return run_testbed(dir, a);
+  };
+  // A shard missing, a shard given twice: refused, nothing written.
+  const CliResult missing = merge({"shard-0", "shard-2"});
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("shards missing of 3: 1"), std::string::npos) << missing.err;
+  const CliResult twice = merge({"shard-0", "shard-1", "shard-1", "shard-2"});
+  EXPECT_EQ(twice.exit_code, 1);
+  EXPECT_NE(twice.err.find("shard 1 is also"), std::string::npos) << twice.err;
+  // An incomplete shard (as an interrupted run leaves its manifest).
+  const fs::path manifest = dir.work() / "shard-1" / "suite-run.json";
+  const std::string complete = read_text(manifest);
+  std::string incomplete = complete;
+  incomplete.replace(incomplete.find("\"complete\": true"), 16, "\"complete\": false");
+  write_text(manifest, incomplete);
+  const CliResult partial = merge({"shard-0", "shard-1", "shard-2"});
+  EXPECT_EQ(partial.exit_code, 1);
+  EXPECT_NE(partial.err.find("is incomplete"), std::string::npos) << partial.err;
+  EXPECT_NE(partial.err.find("--resume"), std::string::npos) << partial.err;
+  write_text(manifest, complete);
+  // A case file changed after its shard finished.
+  const fs::path csv = dir.work() / "shard-1" / "s01-symmetric.csv";
+  const std::string text = read_text(csv);
+  write_text(csv, text + "\n");
+  const CliResult changed = merge({"shard-0", "shard-1", "shard-2"});
+  EXPECT_EQ(changed.exit_code, 1);
+  EXPECT_NE(changed.err.find("s01-symmetric.csv has"), std::string::npos) << changed.err;
+  write_text(csv, text);
+  // A shard of another run (a scene file edited before it ran).
+  write_text(dir.scenes() / "s02.toml", edited_scene("pendulum", "t_final = 20.0", "t_final = 0.2"));
+  ASSERT_EQ(run_testbed(dir, args({"--out", "other-2", "--shard", "2/3"})).exit_code, 0);
+  const CliResult mismatched = merge({"shard-0", "shard-1", "other-2"});
+  EXPECT_EQ(mismatched.exit_code, 1);
+  EXPECT_NE(mismatched.err.find("fingerprint"), std::string::npos) << mismatched.err;
+  EXPECT_FALSE(fs::exists(dir.work() / "merged"));
+  // The shards of one run, in any order: the unsharded run's summaries and files; then figures.
+  const CliResult merged = merge({"shard-2", "shard-0", "shard-1"});
+  ASSERT_EQ(merged.exit_code, 0) << merged.err;
+  EXPECT_EQ(untimed(read_text(dir.work() / "merged" / "summary.csv")),
+            untimed(read_text(dir.work() / "whole" / "summary.csv")));
+  EXPECT_EQ(untimed_jsonl(read_text(dir.work() / "merged" / "summary.jsonl")),
+            untimed_jsonl(read_text(dir.work() / "whole" / "summary.jsonl")));
+  for (int i = 0; i < 3; ++i) {
+    for (const char* form : {"-symmetric.csv", "-printed.csv"}) {
+      const std::string name = "s0" + std::to_string(i) + form;
+      EXPECT_EQ(read_text(dir.work() / "merged" / name), read_text(dir.work() / ("shard-" + std::to_string(i)) / name))
+          << name;
+    }
+  }
+  const CliResult render = run_testbed(dir, {"--scenes-dir", dir.scenes().string(), "suite", "default", "--out",
+                                             "merged", "--render-only"});
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_EQ(read_text(dir.work() / "merged" / "s00-energy.png").substr(1, 3), "PNG");
+}
+
+TEST(SuiteAtomic, TemporaryNamesAreShortAndThoseOfDeadProcessesAreRemoved) {
+  TempDir dir;
+  // A 254-byte name (the file-name limit is 255): its temporary must fit too.
+  const fs::path target = dir.work() / (std::string(250, 'a') + ".csv");
+  experiments::AtomicFile f(target);
+  f.write("x\n");
+  EXPECT_LT(f.temp_path().filename().string().size(), 64u);
+  f.commit();
+  EXPECT_EQ(read_text(target), "x\n");
+  // A temporary of a process that has exited is stale; one of a live process (the parent of
+  // this test) is not.
+  const pid_t child = fork();
+  if (child == 0) _exit(0);
+  waitpid(child, nullptr, 0);
+  const fs::path stale = dir.work() / (".lgvi-tmp-" + std::to_string(child) + "-0.csv");
+  const fs::path live = dir.work() / (".lgvi-tmp-" + std::to_string(getppid()) + "-0.csv");
+  write_text(stale, "partial");
+  write_text(live, "partial");
+  EXPECT_EQ(experiments::remove_stale_temporaries(dir.work()), 1u);
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(live));
 }
 
 // --- end to end ----------------------------------------------------------------------------------

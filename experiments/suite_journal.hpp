@@ -1,0 +1,112 @@
+// A suite run's record of what finished, for `suite --resume` and `merge`.
+//
+// In OUT, beside the case files and the summaries:
+//   suite-run.json       the manifest: suite, quick, version (git describe), the fingerprint of
+//                        the case list and scene files, the shard, the case counts, and whether
+//                        the run finished (complete) or was interrupted; written atomically at
+//                        the start (complete = false) and at the end.
+//   suite-journal.jsonl  one line per finished case, appended as the case finishes, by one
+//                        write(2) on an O_APPEND descriptor: the case's summary.csv and
+//                        summary.jsonl lines, the size and FNV-1a 64 digest of each file it
+//                        wrote, the fingerprint, and the completion marker "done": true as the
+//                        last key. A process killed mid-append leaves at most a torn last line,
+//                        which fails to parse or lacks the marker and is ignored.
+// summary.csv and summary.jsonl are rebuilt from the journal's lines in case order at the end of
+// a run, of an interrupted run (what finished), and by `merge`.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace lgvi::experiments {
+
+struct Suite;
+
+/// A written file of a case: path relative to OUT, size, FNV-1a 64 digest (16 hex digits).
+struct FileDigest {
+  std::string path;
+  std::uintmax_t size = 0;
+  std::string fnv1a64;
+};
+
+/// FNV-1a 64 of a file's bytes as 16 hex digits; "" when it cannot be read.
+std::string file_fnv1a64(const std::filesystem::path& file);
+/// FNV-1a 64 of a string as 16 hex digits.
+std::string text_fnv1a64(const std::string& text);
+
+/// The identity of a run's results: a digest of the suite's name, form (quick), version, its
+/// cases (ids, groups, expectations, labels, in order) and the bytes of the scene files
+/// (scenes_dir/*.toml, by name). Runs with equal fingerprints compute the same cases.
+std::string suite_fingerprint(const Suite& suite, bool quick, const std::filesystem::path& scenes_dir);
+
+struct SuiteManifest {
+  std::string suite;
+  bool quick = false;
+  std::string git_describe;
+  std::string fingerprint;
+  std::size_t shard_index = 0;
+  std::size_t shard_count = 1;
+  std::size_t suite_cases = 0;   ///< cases in the whole suite
+  std::size_t shard_cases = 0;   ///< cases of this shard
+  std::size_t finished = 0;      ///< cases in the summary
+  bool complete = false;         ///< every case of the shard finished
+  std::string interrupted_by;    ///< "SIGINT", "SIGTERM" or ""
+};
+
+/// OUT/suite-run.json and OUT/suite-journal.jsonl.
+std::filesystem::path manifest_path(const std::filesystem::path& out_dir);
+std::filesystem::path journal_path(const std::filesystem::path& out_dir);
+
+/// Writes the manifest atomically. Throws OutputError.
+void write_manifest(const std::filesystem::path& out_dir, const SuiteManifest& m);
+/// Reads it. Throws InvalidInput naming the file and what is missing or malformed.
+SuiteManifest read_manifest(const std::filesystem::path& out_dir);
+
+struct JournalEntry {
+  std::size_t index = 0;  ///< in the whole suite
+  std::string id;
+  std::string fingerprint;
+  std::string csv_line;    ///< summary.csv row, without the newline
+  std::string jsonl_line;  ///< summary.jsonl row, without the newline
+  std::vector<FileDigest> files;
+};
+
+/// The files a case wrote: the values of its summary fields whose key ends in "_path"
+/// (csv_path, ...), relative to out_dir, that exist, with their digests.
+std::vector<FileDigest> digest_case_files(const std::filesystem::path& out_dir, const std::string& jsonl_line);
+
+/// Why `e`'s files do not verify under out_dir ("" when every one exists with its size and
+/// digest).
+std::string verify_files(const std::filesystem::path& out_dir, const JournalEntry& e);
+
+/// Appends one entry with its completion marker by one write(2). Throws OutputError.
+class JournalWriter {
+ public:
+  /// Opens OUT/suite-journal.jsonl for appending; `truncate` starts it empty.
+  JournalWriter(const std::filesystem::path& out_dir, bool truncate);
+  ~JournalWriter();
+  JournalWriter(const JournalWriter&) = delete;
+  JournalWriter& operator=(const JournalWriter&) = delete;
+  void append(const JournalEntry& e);
+
+ private:
+  std::filesystem::path path_;
+  int fd_ = -1;
+};
+
+/// The complete entries of OUT/suite-journal.jsonl (lines that parse and carry the marker), the
+/// last one per case index; a missing file has none.
+std::map<std::size_t, JournalEntry> read_journal(const std::filesystem::path& out_dir);
+
+/// Rewrites the journal atomically with `entries` only (resume drops what did not verify).
+void rewrite_journal(const std::filesystem::path& out_dir, const std::map<std::size_t, JournalEntry>& entries);
+
+/// Writes summary.csv (the header line `header` first unless empty) and summary.jsonl from the
+/// entries in index order, atomically. Throws OutputError.
+void write_summaries_from(const std::filesystem::path& out_dir, const std::string& header,
+                          const std::map<std::size_t, JournalEntry>& entries);
+
+}  // namespace lgvi::experiments
