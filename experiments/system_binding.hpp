@@ -51,6 +51,8 @@ struct SystemLabels {
 ///   final_state_error(s, ref)      dimensionless distance of two final states (see suite_jobs.hpp)
 ///   distance(a, b)                 sum of the parts' norms (Frobenius for attitudes)
 ///   initial_rate(m)                |Omega0| (the largest body's)
+///   printed_order(m)               nominal order of the printed LGVI form on this model: 1
+///                                  where a potential or control acts at the step's end, else 2
 ///   drop_controls(m)               removes the scene's controls (an uncontrolled run)
 ///   labels()                       figure axis labels
 ///   run_lgvi(m, form, rotation, drive)      the LGVI flow map, initial state, control and
@@ -83,6 +85,7 @@ concept SystemBindingOf = std::same_as<typename B::State, typename M::State> &&
   { B::final_state_error(s, s) } -> std::same_as<double>;
   { B::distance(s, s) } -> std::same_as<double>;
   { B::initial_rate(m) } -> std::same_as<double>;
+  { B::printed_order(m) } -> std::same_as<int>;
   B::drop_controls(edited);
   { B::labels() } -> std::same_as<SystemLabels>;
 };

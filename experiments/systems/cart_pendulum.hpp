@@ -75,6 +75,9 @@ struct SystemBinding<CartPendulumModel> {
     return (a.R - b.R).norm() + (a.Omega - b.Omega).norm() + (a.q - b.q).norm() + (a.q_dot - b.q_dot).norm();
   }
   static double initial_rate(const M& m) { return m.initial.Omega.norm(); }
+  /// Eq. 29 splits the potential symmetrically in both forms: the printed form is first order
+  /// only through a control at the step's end.
+  static int printed_order(const M& m) { return m.control ? 1 : 2; }
   static void drop_controls(M& m) { m.control.reset(); }
   static SystemLabels labels() {
     return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]"};

@@ -85,6 +85,9 @@ struct SystemBinding<ConnectedBodiesModel> {
     return (a.R1 - b.R1).norm() + (a.Omega1 - b.Omega1).norm() + (a.R2 - b.R2).norm() + (a.Omega2 - b.Omega2).norm();
   }
   static double initial_rate(const M& m) { return std::max(m.initial.Omega1.norm(), m.initial.Omega2.norm()); }
+  /// No potential (eq. 39): the printed form is first order only through a control at the step's
+  /// end.
+  static int printed_order(const M& m) { return m.control ? 1 : 2; }
   static void drop_controls(M& m) { m.control.reset(); }
   static SystemLabels labels() { return {"time [s]", "|E - E_0| [J]", "|R_1 Π_1 + R_2 Π_2 - (...)_0| [kg m^2/s]"}; }
 

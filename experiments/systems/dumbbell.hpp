@@ -81,6 +81,8 @@ struct SystemBinding<DumbbellModel> {
     return (a.R - b.R).norm() + (a.Omega - b.Omega).norm() + (a.x - b.x).norm() + (a.v - b.v).norm();
   }
   static double initial_rate(const M& m) { return m.initial.Omega.norm(); }
+  /// The gravity force and moment act at the printed step's end: first order.
+  static int printed_order(const M&) { return 1; }
   static void drop_controls(M& m) {
     m.force_control.reset();
     m.moment_control.reset();

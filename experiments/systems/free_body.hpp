@@ -9,6 +9,8 @@ namespace lgvi::experiments {
 template <>
 struct SystemBinding<FreeBodyModel> : AttitudeBinding<FreeBodyModel> {
   static constexpr std::array<std::string_view, 1> kParameterKeys = {"inertia"};
+  /// No potential: the printed form is the symmetric one unless a control acts.
+  static int printed_order(const FreeBodyModel& m) { return m.control ? 1 : 2; }
   static FreeRigidBody read_parameters(const SceneReader& r, const SceneTable& parameters) {
     const Mat3 J = r.inertia(parameters, "inertia");
     return r.physics("parameters.", [&] { return FreeRigidBody(J); });

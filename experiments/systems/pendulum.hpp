@@ -9,6 +9,8 @@ namespace lgvi::experiments {
 template <>
 struct SystemBinding<PendulumModel> : AttitudeBinding<PendulumModel> {
   static constexpr std::array<std::string_view, 4> kParameterKeys = {"mass", "inertia", "rho", "gravity"};
+  /// The gravity moment acts at the printed step's end (eq. 22's impulse): first order.
+  static int printed_order(const PendulumModel&) { return 1; }
   static Pendulum3D read_parameters(const SceneReader& r, const SceneTable& parameters) {
     const double mass = r.number(parameters, "mass");
     const Mat3 J = r.inertia(parameters, "inertia");
