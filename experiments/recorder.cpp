@@ -5,6 +5,7 @@
 #include <cmath>
 #include <span>
 
+#include "experiments/simulate.hpp"
 #include "experiments/system_bindings.hpp"
 #include "lgvi/so3.hpp"
 
@@ -16,6 +17,17 @@ double Diagnostics::max_energy_error() const {
 
 MomentumMap momentum_map(const Model& model) {
   return visit_binding(model, [](auto binding, const auto&) { return decltype(binding)::momentum_map(); });
+}
+
+std::string units_of(const std::string& system) {
+  std::string units;
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    ((system == std::variant_alternative_t<I, Model>::name
+          ? void(units = SystemBinding<std::variant_alternative_t<I, Model>>::units())
+          : void()),
+     ...);
+  }(std::make_index_sequence<std::variant_size_v<Model>>{});
+  return units.empty() ? SystemBinding<FreeBodyModel>::units() : units;
 }
 
 Sample sample_of(const Model& model) {

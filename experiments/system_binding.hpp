@@ -55,6 +55,7 @@ struct SystemLabels {
 ///                                  where a potential or control acts at the step's end, else 2
 ///   drop_controls(m)               removes the scene's controls (an uncontrolled run)
 ///   labels()                       figure axis labels
+///   units()                        the CSV's "units" metadata
 ///   run_lgvi(m, form, rotation, drive)      the LGVI flow map, initial state, control and
 ///                                  state conversion of the system, handed to
 ///                                  drive(flow, flow_state, control, to_state) with
@@ -88,6 +89,7 @@ concept SystemBindingOf = std::same_as<typename B::State, typename M::State> &&
   { B::printed_order(m) } -> std::same_as<int>;
   B::drop_controls(edited);
   { B::labels() } -> std::same_as<SystemLabels>;
+  { B::units() } -> std::same_as<std::string>;
 };
 
 /// The state columns "<name>11".."<name>33" of a matrix and "<name>1".."<name>3" of a vector.

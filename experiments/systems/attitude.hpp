@@ -51,6 +51,7 @@ struct AttitudeBinding {
   static double distance(const State& a, const State& b) { return (a.R - b.R).norm() + (a.Omega - b.Omega).norm(); }
   static double initial_rate(const M& m) { return m.initial.Omega.norm(); }
   static void drop_controls(M& m) { m.control.reset(); }
+  static std::string units() { return "t [s], R [1], Omega [rad/s], energy [J], momentum [kg m^2/s]"; }
 
   template <class Drive>
   static Stats run_lgvi(const M& m, LgviForm form, const RotationUpdateOptions& options, Drive&& drive) {

@@ -79,6 +79,9 @@ struct SystemBinding<CartPendulumModel> {
   /// only through a control at the step's end.
   static int printed_order(const M& m) { return m.control ? 1 : 2; }
   static void drop_controls(M& m) { m.control.reset(); }
+  static std::string units() {
+    return "t [s], R [1], Omega [rad/s], energy [J], momentum [kg m^2/s], x y [m], xdot ydot [m/s]";
+  }
   static SystemLabels labels() {
     return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]"};
   }

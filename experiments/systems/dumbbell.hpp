@@ -87,6 +87,10 @@ struct SystemBinding<DumbbellModel> {
     m.force_control.reset();
     m.moment_control.reset();
   }
+  static std::string units() {
+    return "normalized: mass 1, reference orbit radius 1, mu = 1 (period 2 pi); t, x, v, Omega, energy, "
+           "momentum in these units";
+  }
   static SystemLabels labels() {
     return {"time [normalized: orbit period 2π]", "|E - E_0| [normalized]",
             "|H - H_0| [normalized],  H = x × m v + R J Ω"};
