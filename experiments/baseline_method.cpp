@@ -65,32 +65,32 @@ class BaselineMethod final : public Method {
     return visit_binding(scene.model, [&](auto binding, const auto& m) {
       return decltype(binding)::run_baseline(m, [&](const auto& mech, const auto& R, const auto& Omega, const auto& x,
                                                    const auto& v) {
-        return run_chart<decltype(binding)>(scene, mech, R, Omega, x, v, recorder);
+        return run_chart<decltype(binding), std::decay_t<decltype(m)>>(scene, mech, R, Omega, x, v, recorder);
       });
     });
   }
 
  private:
-  template <class Binding, class Mech>
+  template <class Binding, class M, class Mech>
   Stats run_chart(const Scene& scene, const Mech& mech, const std::array<Mat3, Mech::bodies>& R,
                   const std::array<Vec3, Mech::bodies>& Omega,
                   const baselines::Vector<Mech::positions>& x, const baselines::Vector<Mech::positions>& v,
                   Recorder& recorder) const {
     switch (model_) {
       case CoordinateModel::Quaternion:
-        return run_model<Binding>(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech), R, Omega, x, v, recorder);
+        return run_model<Binding, M>(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech), R, Omega, x, v, recorder);
       case CoordinateModel::QuaternionRenormalized:
-        return run_model<Binding>(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech, true), R, Omega, x, v,
+        return run_model<Binding, M>(scene, CoordinateOde<baselines::QuaternionChart, Mech>(mech, true), R, Omega, x, v,
                                   recorder);
       case CoordinateModel::Euler:
-        return run_model<Binding>(scene, CoordinateOde<baselines::EulerChart, Mech>(mech), R, Omega, x, v, recorder);
+        return run_model<Binding, M>(scene, CoordinateOde<baselines::EulerChart, Mech>(mech), R, Omega, x, v, recorder);
       case CoordinateModel::Matrix:
-        return run_model<Binding>(scene, CoordinateOde<baselines::MatrixChart, Mech>(mech), R, Omega, x, v, recorder);
+        return run_model<Binding, M>(scene, CoordinateOde<baselines::MatrixChart, Mech>(mech), R, Omega, x, v, recorder);
     }
     throw InvalidInput("model", "unknown model");
   }
 
-  template <class Binding, class Ode, std::size_t N, int NX>
+  template <class Binding, class M, class Ode, std::size_t N, int NX>
   Stats run_model(const Scene& scene, const Ode& ode, const std::array<Mat3, N>& R, const std::array<Vec3, N>& Omega,
                   const baselines::Vector<NX>& x, const baselines::Vector<NX>& v, Recorder& recorder) const {
     const Horizon& hz = scene.horizon;
@@ -105,11 +105,12 @@ class BaselineMethod final : public Method {
 
     SolverSettings s = settings_;
     if (info_.step_control == StepControl::Fixed) s.h = hz.h;
-    Sample sample;
+    Sample sample = sample_of<M>();
+    typename M::State& record = state_of<M>(sample);
     const auto observer = [&](std::size_t i, double t, const double* y) {
       const auto d = ode.decode(y);
       sample.t = t;
-      Binding::from_chart(d, sample);
+      Binding::from_chart(d, record);
       // The worse of the bodies' quaternions.
       sample.quaternion_norm_error = *std::max_element(d.quaternion_norm_error.begin(), d.quaternion_norm_error.end());
       sample.newton_iterations = 0;

@@ -46,9 +46,12 @@ class LgviMethod final : public Method {
     }
     // The system's flow map, initial state, control and sample come from its binding.
     return visit_binding(scene.model, [&](auto binding, const auto& m) {
+      using M = std::decay_t<decltype(m)>;
+      Sample sample = sample_of<M>();
+      typename M::State& record = state_of<M>(sample);
       return decltype(binding)::run_lgvi(m, scene.form, options_, [&](const auto& lgvi, auto& state, auto&& control,
-                                                                    auto&& to_sample) {
-        return drive(lgvi, state, scene.horizon, control, to_sample, recorder);
+                                                                    auto&& to_state) {
+        return drive(lgvi, state, scene.horizon, control, to_state, sample, record, recorder);
       });
     });
   }
@@ -57,17 +60,16 @@ class LgviMethod final : public Method {
   /// integrate() with the flow map itself, or with its composition when a scheme is set, handing
   /// the recorder only the steps it writes: k = 0, output_every, 2 output_every, ..., and the last
   /// step computed (t_final, or the last good step of a failed run). Other steps cost a
-  /// comparison and two stores: no sample, no conserved quantities, no clock. `to_sample(state,
-  /// sample)` fills the state part of a Sample.
-  template <class Base, class State, class ControlFn, class ToSample>
-  Stats drive(const Base& base, State& state, const Horizon& hz, ControlFn&& control, ToSample&& to_sample,
-              Recorder& recorder) const {
-    Sample sample;
+  /// comparison and two stores: no sample, no conserved quantities, no clock. `to_state(state,
+  /// record)` writes the flow's state into the system's record, `record`, the state of `sample`.
+  template <class Base, class State, class ControlFn, class ToState, class Record>
+  Stats drive(const Base& base, State& state, const Horizon& hz, ControlFn&& control, ToState&& to_state,
+              Sample& sample, Record& record, Recorder& recorder) const {
     std::size_t next_written = 0;  // the next k a row is written for
     int iterations_last = 0;       // Newton iterations of the last step (a row if the run stops there)
     const auto observer = [&](std::size_t k, double t, const State& s, const RotationUpdateSummary& r) {
       if (k == next_written || k == hz.steps) {
-        to_sample(s, sample);
+        to_state(s, record);
         sample.t = t;
         sample.newton_iterations = r.iterations;
         recorder.record(k, sample);
@@ -86,7 +88,7 @@ class LgviMethod final : public Method {
     // A run stopped between written steps: `state` is its last good step k = stats.steps, at
     // t = k h (integrate's grid, from t0 = 0), and its row is still owed.
     if (stats.steps % hz.output_every != 0 && stats.steps != hz.steps) {
-      to_sample(std::as_const(state), sample);
+      to_state(std::as_const(state), record);
       sample.t = static_cast<double>(stats.steps) * hz.h;
       sample.newton_iterations = iterations_last;
       recorder.record(stats.steps, sample);

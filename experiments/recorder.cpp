@@ -5,6 +5,7 @@
 #include <cmath>
 #include <span>
 
+#include "experiments/simulate.hpp"
 #include "experiments/system_bindings.hpp"
 #include "lgvi/so3.hpp"
 
@@ -16,6 +17,32 @@ double Diagnostics::max_energy_error() const {
 
 MomentumMap momentum_map(const Model& model) {
   return visit_binding(model, [](auto binding, const auto&) { return decltype(binding)::momentum_map(); });
+}
+
+std::string units_of(const std::string& system) {
+  std::string units;
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    ((system == std::variant_alternative_t<I, Model>::name
+          ? void(units = SystemBinding<std::variant_alternative_t<I, Model>>::units())
+          : void()),
+     ...);
+  }(std::make_index_sequence<std::variant_size_v<Model>>{});
+  return units.empty() ? SystemBinding<FreeBodyModel>::units() : units;
+}
+
+Sample sample_of(const Model& model) {
+  return visit_binding(model, [](auto, const auto& m) {
+    Sample s = sample_of<std::decay_t<decltype(m)>>();
+    state_of<std::decay_t<decltype(m)>>(s) = m.initial;
+    return s;
+  });
+}
+
+double state_distance(const Model& model, const Sample& a, const Sample& b) {
+  return visit_binding(model, [&](auto binding, const auto& m) {
+    using M = std::decay_t<decltype(m)>;
+    return decltype(binding)::distance(state_of<M>(a), state_of<M>(b));
+  });
 }
 
 std::vector<std::string> Recorder::columns(const Model& model, bool quaternion_column) {
@@ -31,7 +58,7 @@ std::vector<std::string> Recorder::columns(const Model& model, bool quaternion_c
 
 Recorder::Recorder(const Model& model, std::size_t output_every, CsvWriter* csv, bool quaternion_column)
     : model_(model), output_every_(output_every), csv_(csv), columns_(columns(model, quaternion_column).size()),
-      quaternion_column_(quaternion_column) {
+      last_(sample_of(model)), quaternion_column_(quaternion_column) {
   diagnostics_.quaternion_norm_recorded = quaternion_column;
 }
 
@@ -45,12 +72,13 @@ void Recorder::record(std::size_t k, const Sample& s) {
   std::size_t n = 0;
   visit_binding(model_, [&](auto binding, const auto& m) {
     using B = decltype(binding);
-    c = B::conserved(m, s);
-    orthogonality = B::orthogonality_error(s);
-    determinant = B::determinant_error(s);
+    const auto& state = state_of<std::decay_t<decltype(m)>>(s);
+    c = B::conserved(m, state);
+    orthogonality = B::orthogonality_error(state);
+    determinant = B::determinant_error(state);
     if (csv_ != nullptr) {
       row_[n++] = s.t;
-      n = B::write_state(s, row_.data(), n);
+      n = B::write_state(state, row_.data(), n);
     }
   });
   if (samples_ == 0) {

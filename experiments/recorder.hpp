@@ -6,6 +6,8 @@
 #include <array>
 #include <cstddef>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "experiments/csv_writer.hpp"
@@ -14,22 +16,61 @@
 
 namespace lgvi::experiments {
 
-/// The state at t_k in the paper's variables. x, v: the dumbbell's position and velocity, or
-/// the cart's (x, y, 0) and (x', y', 0). R2, Omega2: the second of the connected bodies (R,
-/// Omega are the first).
+/// The state record of every system of Model, in Model's order: alternative i is
+/// std::variant_alternative_t<i, Model>::State (a free body and a pendulum share one type, so
+/// alternatives are addressed by index: state_of<M>).
+template <class V>
+struct StatesOfModels;
+template <class... Ms>
+struct StatesOfModels<std::variant<Ms...>> {
+  using type = std::variant<typename Ms::State...>;
+};
+using SystemState = StatesOfModels<Model>::type;
+
+/// The index of scene model M in Model.
+template <class M, class V = Model>
+struct ModelIndex;
+template <class M, class... Ms>
+struct ModelIndex<M, std::variant<Ms...>> {
+  static constexpr std::size_t value = [] {
+    constexpr bool same[] = {std::is_same_v<M, Ms>...};
+    std::size_t i = 0;
+    while (!same[i]) ++i;
+    return i;
+  }();
+};
+
+/// The state at t_k in the paper's variables: the record of the scene's system only (its model's
+/// State: R, Omega; the dumbbell's x, v; the cart's q, q_dot; the two bodies' R1, R2, Omega1,
+/// Omega2), so a scene records only what it models.
 struct Sample {
   double t = 0.0;
-  Mat3 R = Mat3::Identity();
-  Vec3 Omega = Vec3::Zero();
-  Vec3 x = Vec3::Zero();
-  Vec3 v = Vec3::Zero();
-  Mat3 R2 = Mat3::Identity();
-  Vec3 Omega2 = Vec3::Zero();
+  SystemState state;
   int newton_iterations = 0;  ///< of the step that produced this sample (0 at k = 0)
   /// | |q| - 1 | of a quaternion baseline's state (written only by a Recorder made with
   /// quaternion_column; see baselines/coordinates.hpp).
   double quaternion_norm_error = 0.0;
 };
+
+/// The state of model M's system in sample s. Precondition: s is a sample of an M scene (made by
+/// sample_of(model) or sample_of<M>()); otherwise std::bad_variant_access.
+template <class M>
+typename M::State& state_of(Sample& s) {
+  return std::get<ModelIndex<M>::value>(s.state);
+}
+template <class M>
+const typename M::State& state_of(const Sample& s) {
+  return std::get<ModelIndex<M>::value>(s.state);
+}
+/// A sample of model M's system at t = 0 in the record's default state (identity, zero).
+template <class M>
+Sample sample_of() {
+  Sample s;
+  s.state.template emplace<ModelIndex<M>::value>();
+  return s;
+}
+/// A sample of `model`'s system at t = 0 in the model's initial state.
+Sample sample_of(const Model& model);
 
 /// Worst deviations over the recorded samples. The methods hand the recorder only the steps whose
 /// rows are written (k = 0, output_every, 2 output_every, ..., and the last step), so these are
@@ -56,6 +97,11 @@ struct MomentumMap {
   std::vector<std::string> columns;
 };
 MomentumMap momentum_map(const Model& model);
+
+/// Distance of two samples of `model`'s system over every part of its state: the sum of the
+/// attitudes' Frobenius and the vectors' 2-norms (SystemBinding::distance). Precondition: both
+/// are samples of that system.
+double state_distance(const Model& model, const Sample& a, const Sample& b);
 
 class Recorder {
  public:

@@ -8,17 +8,26 @@
 #include <cstring>
 #include <fstream>
 #include <initializer_list>
+#include <span>
 #include <sstream>
 #include <vector>
 
 #include <toml++/toml.h>
 
 #include "experiments/data_dir.hpp"
+#include "experiments/scene_reader.hpp"
+#include "experiments/system_bindings.hpp"
 #include "lgvi/so3.hpp"
 
 namespace lgvi::experiments {
 
 namespace fs = std::filesystem;
+
+/// SceneTable's handle is a toml::table; only this file sees toml++.
+struct SceneTableAccess {
+  static SceneTable make(const toml::table& t, std::string path) { return SceneTable(&t, std::move(path)); }
+  static const toml::table& get(const SceneTable& t) { return *static_cast<const toml::table*>(t.table_); }
+};
 
 namespace {
 
@@ -107,7 +116,11 @@ class Reader {
   /// Rejects keys outside `allowed`: typos must not silently fall back to defaults.
   void check_keys(const toml::table& t, const std::string& prefix,
                   std::initializer_list<std::string_view> allowed) const {
-    for (auto&& [key, node] : t) {
+    check_keys(t, prefix, std::span<const std::string_view>(allowed.begin(), allowed.size()));
+  }
+  void check_keys(const toml::table& t, const std::string& prefix, std::span<const std::string_view> allowed) const {
+    for (auto&& entry : t) {
+      const auto& key = entry.first;
       if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
       std::string expected;
       for (std::string_view a : allowed) expected += (expected.empty() ? "" : ", ") + std::string(a);
@@ -324,131 +337,94 @@ void check_structure(std::string_view text, const Reader& r) {
   }
 }
 
-constexpr std::array<std::string_view, 5> kSystems = {"free-body", "pendulum", "dumbbell", "cart-pendulum",
-                                                      "connected-bodies"};
-
-/// make_state's field names ("R0") in scene-file terms ("initial.R").
+/// make_state's field names in scene-file terms: "R0" is "initial.R", "R1_0" "initial.R1".
 std::string initial_field(const std::string& field) {
-  if (field == "R0") return "initial.R";
-  if (field == "Omega0") return "initial.Omega";
-  if (field == "x0") return "initial.x";
-  if (field == "v0") return "initial.v";
-  if (field == "q0") return "initial.q";
-  if (field == "q_dot0") return "initial.q_dot";
-  if (field == "R1_0") return "initial.R1";
-  if (field == "R2_0") return "initial.R2";
-  if (field == "Omega1_0") return "initial.Omega1";
-  if (field == "Omega2_0") return "initial.Omega2";
-  return "initial." + field;
+  std::string name = field;
+  if (name.ends_with("_0")) {
+    name.resize(name.size() - 2);
+  } else if (name.size() > 1 && name.ends_with("0")) {
+    name.pop_back();
+  }
+  return "initial." + name;
 }
 
 constexpr const char* kOverflowHint =
     " is not finite: the parameters and initial values overflow together (scene.hpp: admissible input)";
 
-/// The initial state as the integrator builds it (validation of R, momenta, the cached forces
-/// and moments), every entry finite, and its energy finite.
-template <class Integrator, class... Args>
-void validate_initial_state(const Reader& reader, const Integrator& lgvi, double energy, const Args&... args) {
-  try {
-    const auto state = lgvi.make_state(args...);
-    if (const char* part = non_finite_part(state)) reader.fail("initial", std::string("the initial ") + part + kOverflowHint);
-  } catch (const InvalidInput& e) {
-    reader.fail(initial_field(e.field()), reason_of(e));
-  }
-  if (!std::isfinite(energy)) reader.fail("initial", std::string("the initial energy") + kOverflowHint);
+/// The model of binding B's system from the scene's tables, checking every table's keys before
+/// reading any value (a misspelt key is the likeliest cause of a missing one).
+template <class B>
+Model read_system(const SceneReader& r, const SceneTable& parameters, const SceneTable& initial,
+                  const SceneTable& integration, const std::optional<SceneTable>& control) {
+  B::check_keys(r, parameters, initial);
+  r.check_keys(integration, {"h", "t_final", "form", "output_every"});
+  if (control) B::check_control_keys(r, *control);
+  return B::read(r, parameters, initial, control);
 }
 
-Model read_model(const Reader& r, const std::string& system, const toml::table& parameters,
-                 const toml::table& initial, const toml::table* control) {
-  const auto attitude_initial = [&] {
-    AttitudeInitial init;
-    if (const toml::node* R = initial.get("R")) init.R = r.mat3(*R, "initial.R");
-    init.Omega = r.required(initial, "Omega", "initial", &Reader::vec3);
-    return init;
-  };
-  if (system == "free-body") {
-    const Mat3 J = r.required(parameters, "inertia", "parameters", &Reader::inertia);
-    FreeBodyModel m{r.physics("parameters.", [&] { return FreeRigidBody(J); }), attitude_initial(), {}};
-    if (control != nullptr) m.control = r.sinusoid(*control, "control");
-    validate_initial_state(r, AttitudeLgvi<FreeRigidBody>(m.system), m.system.energy(m.initial.R, m.initial.Omega),
-                           m.initial.R, m.initial.Omega);
-    return m;
-  }
-  if (system == "pendulum") {
-    const double mass = r.required(parameters, "mass", "parameters", &Reader::number);
-    const Mat3 J = r.required(parameters, "inertia", "parameters", &Reader::inertia);
-    const Vec3 rho = r.required(parameters, "rho", "parameters", &Reader::vec3);
-    const double g = r.required(parameters, "gravity", "parameters", &Reader::number);
-    PendulumModel m{r.physics("parameters.", [&] { return Pendulum3D(mass, J, rho, g); }),
-                    attitude_initial(), {}};
-    if (control != nullptr) m.control = r.sinusoid(*control, "control");
-    validate_initial_state(r, AttitudeLgvi<Pendulum3D>(m.system), m.system.energy(m.initial.R, m.initial.Omega),
-                           m.initial.R, m.initial.Omega);
-    return m;
-  }
-  if (system == "cart-pendulum") {
-    const double cart_mass = r.required(parameters, "cart_mass", "parameters", &Reader::number);
-    const double mass = r.required(parameters, "mass", "parameters", &Reader::number);
-    const Mat3 J = r.required(parameters, "inertia", "parameters", &Reader::inertia);
-    const Vec3 d = r.required(parameters, "d", "parameters", &Reader::vec3);
-    const double g = r.required(parameters, "gravity", "parameters", &Reader::number);
-    CartPendulumInitial init;
-    if (const toml::node* R = initial.get("R")) init.R = r.mat3(*R, "initial.R");
-    init.Omega = r.required(initial, "Omega", "initial", &Reader::vec3);
-    init.q = r.required(initial, "q", "initial", &Reader::vec2);
-    init.q_dot = r.required(initial, "q_dot", "initial", &Reader::vec2);
-    CartPendulumModel m{r.physics("parameters.", [&] { return CartPendulum(cart_mass, mass, J, d, g); }), init, {}};
-    if (control != nullptr) m.control = r.sinusoid2(*control, "control");
-    validate_initial_state(r, CartPendulumLgvi(m.system), m.system.energy(init.R, init.Omega, init.q_dot), init.R,
-                           init.q, init.Omega, init.q_dot);
-    return m;
-  }
-  if (system == "connected-bodies") {
-    const double m1 = r.required(parameters, "mass1", "parameters", &Reader::number);
-    const Mat3 J1 = r.required(parameters, "inertia1", "parameters", &Reader::inertia);
-    const Vec3 d1 = r.required(parameters, "d1", "parameters", &Reader::vec3);
-    const double m2 = r.required(parameters, "mass2", "parameters", &Reader::number);
-    const Mat3 J2 = r.required(parameters, "inertia2", "parameters", &Reader::inertia);
-    const Vec3 d2 = r.required(parameters, "d2", "parameters", &Reader::vec3);
-    ConnectedBodiesInitial init;
-    if (const toml::node* R = initial.get("R1")) init.R1 = r.mat3(*R, "initial.R1");
-    if (const toml::node* R = initial.get("R2")) init.R2 = r.mat3(*R, "initial.R2");
-    init.Omega1 = r.required(initial, "Omega1", "initial", &Reader::vec3);
-    init.Omega2 = r.required(initial, "Omega2", "initial", &Reader::vec3);
-    ConnectedBodiesModel m{r.physics("parameters.", [&] { return ConnectedBodies(m1, J1, d1, m2, J2, d2); }),
-                           init, {}};
-    if (control != nullptr) m.control = r.sinusoid(*control, "control");
-    validate_initial_state(r, ConnectedBodiesLgvi(m.system),
-                           m.system.energy(init.R1, init.R2, init.Omega1, init.Omega2), init.R1, init.R2,
-                           init.Omega1, init.Omega2);
-    return m;
-  }
-  // dumbbell
-  const double mass = r.required(parameters, "mass", "parameters", &Reader::number);
-  const double mu = r.required(parameters, "mu", "parameters", &Reader::number);
-  const Vec3 rho = r.required(parameters, "rho", "parameters", &Reader::vec3);
-  const double radius = r.required(parameters, "sphere_radius", "parameters", &Reader::number);
-  RigidBodyInitial init;
-  if (const toml::node* R = initial.get("R")) init.R = r.mat3(*R, "initial.R");
-  init.Omega = r.required(initial, "Omega", "initial", &Reader::vec3);
-  init.x = r.required(initial, "x", "initial", &Reader::vec3);
-  init.v = r.required(initial, "v", "initial", &Reader::vec3);
-  DumbbellModel m{r.physics("parameters.", [&] { return DumbbellSpacecraft(mass, mu, rho, radius); }),
-                  init, {}, {}};
-  if (control != nullptr) {
-    if (const toml::table* f = r.table(*control, "force", "control", false)) {
-      m.force_control = r.sinusoid(*f, "control.force");
-    }
-    if (const toml::table* mo = r.table(*control, "moment", "control", false)) {
-      m.moment_control = r.sinusoid(*mo, "control.moment");
-    }
-  }
-  validate_initial_state(r, DumbbellLgvi(m.system), m.system.energy(init.R, init.x, init.Omega, init.v), init.R,
-                         init.x, init.Omega, init.v);
-  return m;
+/// The model of the scene's `system` (the name of a Model alternative), read by its binding.
+Model read_model(const SceneReader& r, const std::string& system, const SceneTable& parameters,
+                 const SceneTable& initial, const SceneTable& integration, const std::optional<SceneTable>& control) {
+  std::optional<Model> model;
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    const auto try_one = [&]<class M>(std::type_identity<M>) {
+      if (!model && system == M::name) {
+        model.emplace(read_system<SystemBinding<M>>(r, parameters, initial, integration, control));
+      }
+    };
+    (try_one(std::type_identity<std::variant_alternative_t<I, Model>>{}), ...);
+  }(std::make_index_sequence<std::variant_size_v<Model>>{});
+  if (!model) r.fail("system", "unknown system '" + system + "'");  // parse_scene checked the name
+  return std::move(*model);
 }
 
 }  // namespace
+
+void SceneReader::fail(const std::string& field, const std::string& reason) const {
+  throw SceneError(file_, field, reason);
+}
+
+void SceneReader::check_keys(const SceneTable& t, std::span<const std::string_view> allowed) const {
+  Reader(file_).check_keys(SceneTableAccess::get(t), t.path(), allowed);
+}
+
+std::optional<SceneTable> SceneReader::table(const SceneTable& t, std::string_view key, bool required) const {
+  const toml::table* sub = Reader(file_).table(SceneTableAccess::get(t), key, t.path(), required);
+  if (sub == nullptr) return std::nullopt;
+  return SceneTableAccess::make(*sub, join_key(t.path(), key));
+}
+
+double SceneReader::number(const SceneTable& t, std::string_view key) const {
+  return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::number);
+}
+Vec2 SceneReader::vec2(const SceneTable& t, std::string_view key) const {
+  return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::vec2);
+}
+Vec3 SceneReader::vec3(const SceneTable& t, std::string_view key) const {
+  return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::vec3);
+}
+Mat3 SceneReader::inertia(const SceneTable& t, std::string_view key) const {
+  return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::inertia);
+}
+
+Mat3 SceneReader::attitude(const SceneTable& t, std::string_view key) const {
+  const toml::node* n = SceneTableAccess::get(t).get(key);
+  return n == nullptr ? Mat3::Identity() : Reader(file_).mat3(*n, join_key(t.path(), key));
+}
+
+Sinusoid SceneReader::sinusoid(const SceneTable& t) const { return Reader(file_).sinusoid(SceneTableAccess::get(t), t.path()); }
+Sinusoid SceneReader::sinusoid2(const SceneTable& t) const {
+  return Reader(file_).sinusoid2(SceneTableAccess::get(t), t.path());
+}
+
+void SceneReader::fail_invalid(const std::string& prefix, const InvalidInput& e) const {
+  fail(prefix + e.field(), reason_of(e));
+}
+void SceneReader::fail_invalid_initial(const InvalidInput& e) const { fail(initial_field(e.field()), reason_of(e)); }
+void SceneReader::check_initial_finite(const char* non_finite_part, bool energy_finite) const {
+  if (non_finite_part != nullptr) fail("initial", std::string("the initial ") + non_finite_part + kOverflowHint);
+  if (!energy_finite) fail("initial", std::string("the initial energy") + kOverflowHint);
+}
 
 SceneError::SceneError(std::string file, std::string field, std::string reason)
     : std::runtime_error(join_message(file, field, reason)),
@@ -514,48 +490,29 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   // Unknown keys first, everywhere: a misspelt key is the likeliest cause of a missing one.
   r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control"});
   const std::string system = r.required(doc, "system", "", &Reader::string);
-  if (std::find(kSystems.begin(), kSystems.end(), system) == kSystems.end()) {
-    r.fail("system", "unknown system '" + system +
-                         "' (expected one of: free-body, pendulum, dumbbell, cart-pendulum, connected-bodies)");
-  }
+  std::string known;
+  bool is_known = false;
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    for (const std::string_view name : {std::string_view(std::variant_alternative_t<I, Model>::name)...}) {
+      known += (known.empty() ? "" : ", ") + std::string(name);
+      is_known = is_known || system == name;
+    }
+  }(std::make_index_sequence<std::variant_size_v<Model>>{});
+  if (!is_known) r.fail("system", "unknown system '" + system + "' (expected one of: " + known + ")");
   const toml::table* parameters = r.table(doc, "parameters", "", true);
   const toml::table* initial = r.table(doc, "initial", "", true);
   const toml::table* integration = r.table(doc, "integration", "", true);
   const toml::table* control = r.table(doc, "control", "", false);
-  if (system == "free-body") r.check_keys(*parameters, "parameters", {"inertia"});
-  if (system == "pendulum") r.check_keys(*parameters, "parameters", {"mass", "inertia", "rho", "gravity"});
-  if (system == "dumbbell") r.check_keys(*parameters, "parameters", {"mass", "mu", "rho", "sphere_radius"});
-  if (system == "cart-pendulum") {
-    r.check_keys(*parameters, "parameters", {"cart_mass", "mass", "inertia", "d", "gravity"});
-  }
-  if (system == "connected-bodies") {
-    r.check_keys(*parameters, "parameters", {"mass1", "inertia1", "d1", "mass2", "inertia2", "d2"});
-  }
-  if (system == "dumbbell") {
-    r.check_keys(*initial, "initial", {"R", "Omega", "x", "v"});
-  } else if (system == "cart-pendulum") {
-    r.check_keys(*initial, "initial", {"R", "Omega", "q", "q_dot"});
-  } else if (system == "connected-bodies") {
-    r.check_keys(*initial, "initial", {"R1", "R2", "Omega1", "Omega2"});
-  } else {
-    r.check_keys(*initial, "initial", {"R", "Omega"});
-  }
-  r.check_keys(*integration, "integration", {"h", "t_final", "form", "output_every"});
-  if (control != nullptr) {
-    if (system == "dumbbell") {
-      r.check_keys(*control, "control", {"force", "moment"});
-      for (const char* key : {"force", "moment"}) {
-        if (const toml::table* sub = r.table(*control, key, "control", false)) {
-          r.check_keys(*sub, std::string("control.") + key, {"amplitude", "frequency", "phase"});
-        }
-      }
-    } else {
-      r.check_keys(*control, "control", {"amplitude", "frequency", "phase"});
-    }
-  }
 
-  Scene scene{file.stem().string(), file, "", read_model(r, system, *parameters, *initial, control), Horizon{},
-              LgviForm::Symmetric};
+  // The system's tables, read by its binding (keys first, everywhere).
+  const SceneReader reader(file_name);
+  std::optional<SceneTable> control_table;
+  if (control != nullptr) control_table = SceneTableAccess::make(*control, "control");
+  Scene scene{file.stem().string(), file, "",
+              read_model(reader, system, SceneTableAccess::make(*parameters, "parameters"),
+                         SceneTableAccess::make(*initial, "initial"), SceneTableAccess::make(*integration, "integration"),
+                         control_table),
+              Horizon{}, LgviForm::Symmetric};
   if (const toml::node* d = doc.get("description")) scene.description = r.string(*d, "description");
 
   // [integration], with the command-line overrides named in messages.

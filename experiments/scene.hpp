@@ -3,19 +3,16 @@
 //
 // File format (every key below is the complete list; any other key is an error):
 //
-//   system = "free-body" | "pendulum" | "dumbbell"
+//   system = "free-body" | "pendulum" | "dumbbell" | "cart-pendulum" | "connected-bodies"
 //   description = "one line"                    (optional)
-//   [parameters]   free-body: inertia
-//                  pendulum:  mass, inertia, rho, gravity
-//                  dumbbell:  mass, mu, rho, sphere_radius  (J follows from them)
+//   [parameters], [initial], [control]   the system's own tables, read by its binding
+//                  (experiments/systems/<system>.hpp: check_keys, read), e.g.
+//                  free-body: [parameters] inertia; [initial] R (3x3 array of rows, default
+//                  identity), Omega; [control] amplitude, frequency, phase (3-vectors; phase
+//                  optional): u_i(t) = amplitude_i sin(2 pi frequency_i t + phase_i)
 //                  inertia = [J1, J2, J3] (principal moments) or a 3x3 array of arrays
-//   [initial]      R (3x3 array of rows, default identity), Omega; dumbbell also x, v
 //   [integration]  h, t_final, form = "symmetric" | "printed" (default symmetric),
 //                  output_every (default 1)
-//   [control]      optional. u_i(t) = amplitude_i sin(2 pi frequency_i t + phase_i)
-//                  free-body, pendulum: amplitude, frequency, phase (3-vectors; phase optional)
-//                  dumbbell: sub-tables [control.force] (inertial frame) and [control.moment]
-//                  (body frame), each with amplitude, frequency, phase
 //
 // The horizon must be a whole number of steps: steps = round(t_final / h) and
 // |steps h - t_final| <= 1e-9 t_final. The state is sampled at t_k = k h, k = 0..steps.
@@ -83,6 +80,9 @@ struct Sinusoid {
   Vec3 operator()(double t) const;
 };
 
+// The state records in the paper's variables, one per kind of configuration space: a scene's
+// initial state and the recorder's samples (Sample::state) of its system. Each model names its
+// record State.
 struct AttitudeInitial {
   Mat3 R = Mat3::Identity();
   Vec3 Omega = Vec3::Zero();
@@ -97,23 +97,26 @@ struct RigidBodyInitial {
 
 // One struct per system: a scene holds only the state and controls its system uses.
 struct FreeBodyModel {
+  using State = AttitudeInitial;
   static constexpr const char* name = "free-body";
   FreeRigidBody system;
-  AttitudeInitial initial;
+  State initial;
   std::optional<Sinusoid> control;  ///< body-frame moment
 };
 
 struct PendulumModel {
+  using State = AttitudeInitial;
   static constexpr const char* name = "pendulum";
   Pendulum3D system;
-  AttitudeInitial initial;
+  State initial;
   std::optional<Sinusoid> control;  ///< u of eq. 23; the applied moment is R^T e3 x u
 };
 
 struct DumbbellModel {
+  using State = RigidBodyInitial;
   static constexpr const char* name = "dumbbell";
   DumbbellSpacecraft system;
-  RigidBodyInitial initial;
+  State initial;
   std::optional<Sinusoid> force_control;   ///< u^f, inertial frame
   std::optional<Sinusoid> moment_control;  ///< u^m, body frame
 };
@@ -126,9 +129,10 @@ struct CartPendulumInitial {
 };
 
 struct CartPendulumModel {
+  using State = CartPendulumInitial;
   static constexpr const char* name = "cart-pendulum";
   CartPendulum system;
-  CartPendulumInitial initial;
+  State initial;
   std::optional<Sinusoid> control;  ///< cart forces (u_x, u_y) in components 1, 2; component 3 is 0
 };
 
@@ -138,9 +142,10 @@ struct ConnectedBodiesInitial {
 };
 
 struct ConnectedBodiesModel {
+  using State = ConnectedBodiesInitial;
   static constexpr const char* name = "connected-bodies";
   ConnectedBodies system;
-  ConnectedBodiesInitial initial;
+  State initial;
   std::optional<Sinusoid> control;  ///< internal moment u (inertial frame): +u on body 1, -u on body 2
 };
 

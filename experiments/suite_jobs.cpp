@@ -82,17 +82,15 @@ void ReferenceRun::prepare(const fs::path& scenes_dir) const {
 Sample ReferenceRun::sample_at(double t, const fs::path& scenes_dir) const {
   prepare(scenes_dir);
   if (!exact_) return final_;
-  const baselines::ExactState s = exact_->state(t);
-  Sample sample;
-  sample.t = t;
-  sample.R = s.R;
-  sample.Omega = s.Omega;
-  return sample;
+  return exact_->sample(t);
 }
 
 double final_state_error(const Model& model, const Sample& s, const Sample& ref) {
   if (std::abs(s.t - ref.t) > 1e-9 * std::max(1.0, std::abs(ref.t))) return std::numeric_limits<double>::quiet_NaN();
-  return visit_binding(model, [&](auto binding, const auto&) { return decltype(binding)::final_state_error(s, ref); });
+  return visit_binding(model, [&](auto binding, const auto& m) {
+    using M = std::decay_t<decltype(m)>;
+    return decltype(binding)::final_state_error(state_of<M>(s), state_of<M>(ref));
+  });
 }
 
 SimulateJob::SimulateJob(SimulateSpec spec, std::shared_ptr<const ReferenceRun> reference)

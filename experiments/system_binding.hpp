@@ -2,17 +2,20 @@
 // (experiments/systems/<system>.hpp specializes SystemBinding<SceneModel>). The recorder, the
 // methods and the suites consult the binding of the scene's model (visit_binding) instead of
 // branching on the system. A new system: its scene model (scene.hpp), its binding file, one
-// line in system_bindings.hpp, and its scene reader (scene.cpp).
+// line in system_bindings.hpp, and its scene reader (scene.cpp). A binding sees only its own
+// system's state record (M::State); the recorder's Sample holds one of them.
 #pragma once
 
 #include <algorithm>
 #include <concepts>
+#include <optional>
 #include <cstddef>
 #include <string>
 #include <vector>
 
 #include "experiments/recorder.hpp"
 #include "experiments/scene.hpp"
+#include "experiments/scene_reader.hpp"
 #include "lgvi/integrate.hpp"
 #include "lgvi/rotation_update.hpp"
 #include "lgvi/so3.hpp"
@@ -31,29 +34,48 @@ struct SystemLabels {
   std::string time, energy, momentum;
 };
 
-/// SystemBinding<M> for a scene model M provides (static members):
+/// SystemBinding<M> for a scene model M provides (static members; `State` is M::State, the
+/// system's record in the paper's variables, a scene's initial state and the recorder's sample):
+///   State                          M::State
+///   check_keys(r, parameters, initial)   rejects unknown keys of the scene's [parameters] and
+///                                  [initial] (before any value is read)
+///   check_control_keys(r, control)  the same for [control]
+///   read(r, parameters, initial, control)   the model from those tables, validated
+///                                  (SceneReader: every error names the file, field and reason)
 ///   single_body                    no mass matrix to solve (a baseline's Jacobian text)
 ///   state_columns(c)               appends the CSV state columns after t (paper's symbols)
-///   write_state(s, row, n)         writes those columns of sample s into row[n..]; returns n
-///   conserved(m, s)                energy and momentum map of a sample
+///   write_state(s, row, n)         writes those columns of state s into row[n..]; returns n
+///   conserved(m, s)                energy and momentum map of a state
 ///   momentum_map()                 the momentum map's description and columns
 ///   orthogonality_error(s), determinant_error(s)   the worst over the system's attitudes
 ///   final_state_error(s, ref)      dimensionless distance of two final states (see suite_jobs.hpp)
+///   distance(a, b)                 sum of the parts' norms (Frobenius for attitudes)
 ///   initial_rate(m)                |Omega0| (the largest body's)
+///   printed_order(m)               nominal order of the printed LGVI form on this model: 1
+///                                  where a potential or control acts at the step's end, else 2
 ///   drop_controls(m)               removes the scene's controls (an uncontrolled run)
 ///   labels()                       figure axis labels
+///   units()                        the CSV's "units" metadata
 ///   run_lgvi(m, form, rotation, drive)      the LGVI flow map, initial state, control and
-///                                  sample of the system, handed to drive(flow, state, control, to_sample)
+///                                  state conversion of the system, handed to
+///                                  drive(flow, flow_state, control, to_state) with
+///                                  to_state(flow_state, State&)
 ///   run_baseline(m, chart)         the continuous mechanics and initial state, handed to
 ///                                  chart(mech, R, Omega, x, v) (baselines/mechanics.hpp)
-///   from_chart(decoded, s)         a baseline's decoded state into a sample
+///   from_chart(decoded, s)         a baseline's decoded state into a State
 template <class M>
 struct SystemBinding;
 
 /// The non-template part of the list above (run_lgvi, run_baseline and from_chart are templates
 /// on the driver's callbacks; their use in lgvi_method.cpp and baseline_method.cpp checks them).
 template <class B, class M>
-concept SystemBindingOf = requires(const M& m, M& edited, const Sample& s, std::vector<std::string>& c, double* row) {
+concept SystemBindingOf = std::same_as<typename B::State, typename M::State> &&
+                          requires(const M& m, M& edited, const typename M::State& s, std::vector<std::string>& c,
+                                   double* row, const SceneReader& r, const SceneTable& t,
+                                   const std::optional<SceneTable>& control) {
+  B::check_keys(r, t, t);
+  B::check_control_keys(r, t);
+  { B::read(r, t, t, control) } -> std::same_as<M>;
   { B::single_body } -> std::convertible_to<bool>;
   B::state_columns(c);
   { B::write_state(s, row, std::size_t{0}) } -> std::same_as<std::size_t>;
@@ -62,9 +84,12 @@ concept SystemBindingOf = requires(const M& m, M& edited, const Sample& s, std::
   { B::orthogonality_error(s) } -> std::same_as<double>;
   { B::determinant_error(s) } -> std::same_as<double>;
   { B::final_state_error(s, s) } -> std::same_as<double>;
+  { B::distance(s, s) } -> std::same_as<double>;
   { B::initial_rate(m) } -> std::same_as<double>;
+  { B::printed_order(m) } -> std::same_as<int>;
   B::drop_controls(edited);
   { B::labels() } -> std::same_as<SystemLabels>;
+  { B::units() } -> std::same_as<std::string>;
 };
 
 /// The state columns "<name>11".."<name>33" of a matrix and "<name>1".."<name>3" of a vector.
@@ -76,20 +101,23 @@ inline void matrix_columns(std::vector<std::string>& c, const std::string& name)
 inline void vector_columns(std::vector<std::string>& c, const std::string& name) {
   for (int i = 1; i <= 3; ++i) c.push_back(name + std::to_string(i));
 }
-/// Writes M row by row, or the first `size` entries of v, into row[n..]; returns the new n.
+/// Writes M row by row into row[n..]; returns the new n.
 inline std::size_t write_matrix(const Mat3& M, double* row, std::size_t n) {
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) row[n++] = M(i, j);
   }
   return n;
 }
-inline std::size_t write_vector(const Vec3& v, int size, double* row, std::size_t n) {
-  for (int i = 0; i < size; ++i) row[n++] = v(i);
+/// Writes every entry of the (fixed-size) vector v into row[n..]; returns the new n.
+template <int N>
+std::size_t write_vector(const Eigen::Matrix<double, N, 1>& v, double* row, std::size_t n) {
+  for (int i = 0; i < N; ++i) row[n++] = v(i);
   return n;
 }
 
 /// |a - ref| / |ref|, absolute when |ref| = 0.
-inline double relative_error(const Vec3& a, const Vec3& ref) {
+template <int N>
+double relative_error(const Eigen::Matrix<double, N, 1>& a, const Eigen::Matrix<double, N, 1>& ref) {
   const double n = ref.norm();
   return n > 0.0 ? (a - ref).norm() / n : (a - ref).norm();
 }

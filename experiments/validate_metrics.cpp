@@ -2,7 +2,7 @@
 // Every metric is computed here by running the project's own code: scenes through the methods
 // of the harness (the same code path as `simulate`), the cases of the sensitivity and shooting
 // suites, and the `ocp` command on the paper's four examples. Nothing is switched on the
-// system: scenes are loaded by name and compared through their generic Sample.
+// system: scenes are loaded by name and compared through their Sample (the bindings' distance).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -89,13 +89,6 @@ Run run_scene(const Scene& scene, const Method& method) {
   return r;
 }
 
-/// Distance of two samples of the same scene over every field of the state: the attitudes in
-/// the Frobenius norm, the vectors in the 2-norm (fields a system does not model are equal).
-double distance(const Sample& a, const Sample& b) {
-  return (a.R - b.R).norm() + (a.Omega - b.Omega).norm() + (a.x - b.x).norm() + (a.v - b.v).norm() +
-         (a.R2 - b.R2).norm() + (a.Omega2 - b.Omega2).norm();
-}
-
 Scene scene_with(const ValidateOptions& options, const std::string& name, double h, double t_final,
                  std::int64_t every, std::optional<LgviForm> form = std::nullopt) {
   SceneOverrides o;
@@ -119,20 +112,17 @@ Scene scene_with(const ValidateOptions& options, const std::string& name, double
 struct OrderScene {
   const char* scene;
   double t_final;
+  std::size_t step_factor;  ///< multiplies base_steps: 2 for a fast scene
 };
 // The five systems, each with a control where its scene has one (the control's impulses are
-// part of the order: the printed form's end-of-step impulse is first order).
+// part of the order: the printed form's end-of-step impulse is first order). The pendulum
+// tumbles at |Omega| ~ 7 rad/s and the connected bodies' coupling makes their error constants
+// large: twice the steps of the other scenes.
 constexpr OrderScene kOrderScenes[] = {
-    {"free-body", 1.0}, {"pendulum-controlled", 1.0}, {"dumbbell", 2.0}, {"cart-pendulum", 1.0},
-    {"connected-bodies", 1.0}};
+    {"free-body", 1.0, 1}, {"pendulum-controlled", 1.0, 2}, {"dumbbell", 2.0, 1}, {"cart-pendulum", 1.0, 1},
+    {"connected-bodies", 1.0, 2}};
 
-std::size_t base_steps(double order, const char* scene) {
-  // The pendulum tumbles at |Omega| ~ 7 rad/s and the connected bodies' coupling makes their
-  // error constants large: twice the steps of the other scenes.
-  const bool fast = std::string(scene).rfind("pendulum", 0) == 0 || std::string(scene) == "connected-bodies";
-  const std::size_t n = order <= 1.0 ? 100 : order <= 2.0 ? 50 : order <= 4.0 ? 32 : 16;
-  return fast ? 2 * n : n;
-}
+std::size_t base_steps(double order) { return order <= 1.0 ? 100 : order <= 2.0 ? 50 : order <= 4.0 ? 32 : 16; }
 
 std::vector<MethodUnderTest> order_methods() {
   return {
@@ -148,19 +138,25 @@ std::vector<MethodUnderTest> order_methods() {
   };
 }
 
+/// The nominal order of the printed LGVI form on a scene (its binding's printed_order).
+double printed_order(const char* scene, const ValidateOptions& options) {
+  const Scene s = load_scene(options.scenes_dir / (std::string(scene) + ".toml"));
+  return visit_binding(s.model, [](auto binding, const auto& m) { return double(decltype(binding)::printed_order(m)); });
+}
+
 void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
   for (const OrderScene& os : kOrderScenes) {
     for (const MethodUnderTest& mut : order_methods()) {
       const auto t0 = Clock::now();
       const std::unique_ptr<Method> method = make(mut, options);
-      const std::size_t n0 = base_steps(mut.order(), os.scene) * mut.step_factor;
+      const std::size_t n0 = base_steps(mut.order()) * os.step_factor * mut.step_factor;
       // Nominal order: the printed form is first order where a potential or a control acts at
       // the step's end; without either (the free body and the cart scene have no control, the
       // free body no potential, the cart's potential is split in eq. 29 already) it is the
-      // symmetric form.
-      const bool printed_is_symmetric = std::string(os.scene) == "free-body" || std::string(os.scene) == "cart-pendulum";
-      const double nominal = mut.form == LgviForm::Printed && printed_is_symmetric ? 2.0 : mut.order();
+      // symmetric form (the system binding's printed_order).
+      const double nominal = mut.form == LgviForm::Printed ? printed_order(os.scene, options) : mut.order();
       std::vector<Sample> finals;
+      std::optional<Model> model;  // the scene's system, for the distance of its states
       bool ok = true;
       for (int j = 0; j < 4 && ok; ++j) {
         const std::size_t n = n0 << j;
@@ -169,13 +165,14 @@ void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
         const Run r = run_scene(scene, *method);
         ok = r.stats.ok();
         finals.push_back(r.last);
+        model = scene.model;
       }
       double p = std::numeric_limits<double>::quiet_NaN();
       std::string detail;
       if (ok) {
         // Least-squares slope of log2 d_j over j = 0, 1, 2: (l2 - l0) / 2.
         double l[3];
-        for (int j = 0; j < 3; ++j) l[j] = std::log2(distance(finals[j], finals[j + 1]));
+        for (int j = 0; j < 3; ++j) l[j] = std::log2(state_distance(*model, finals[j], finals[j + 1]));
         p = -(l[2] - l[0]) / 2.0;
         detail = std::string(os.scene) + ", T = " + format("%g", os.t_final) + ", N = " + std::to_string(n0) +
                  ".." + std::to_string(8 * n0) + " steps; differences " + format("%.2g", std::exp2(l[0])) +
@@ -316,11 +313,7 @@ void exact_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
       const Scene scene = scene_with(options, es.scene, h, h * static_cast<double>(steps), steps, mut.form);
       const Run r = run_scene(scene, *method);
       const bool ok = r.stats.ok();
-      Sample reference;
-      const baselines::ExactState x = exact->state(r.last.t);
-      reference.t = r.last.t;
-      reference.R = x.R;
-      reference.Omega = x.Omega;
+      const Sample reference = exact->sample(r.last.t);
       Metric m;
       m.name = "exact/" + std::string(es.scene) + "/" + mut.label;
       m.kind = MetricKind::Truncation;

@@ -79,12 +79,13 @@ void BM_Simulate(benchmark::State& bench) {
 
 /// The pendulum's 20001 samples of a tumble, as the LGVI would record them (R on SO(3)).
 std::vector<Sample> tumbling_samples() {
-  std::vector<Sample> samples(20001);
+  std::vector<Sample> samples(20001, sample_of<PendulumModel>());
   for (std::size_t k = 0; k < samples.size(); ++k) {
     const double t = 1e-3 * static_cast<double>(k);
     samples[k].t = t;
-    samples[k].R = so3::exp(Vec3(4.14 * t, 2.0 * std::sin(t), 0.5 * std::cos(3.0 * t)));
-    samples[k].Omega = Vec3(4.14 + std::sin(t), 4.14 * std::cos(t), 4.14);
+    AttitudeInitial& state = state_of<PendulumModel>(samples[k]);
+    state.R = so3::exp(Vec3(4.14 * t, 2.0 * std::sin(t), 0.5 * std::cos(3.0 * t)));
+    state.Omega = Vec3(4.14 + std::sin(t), 4.14 * std::cos(t), 4.14);
     samples[k].newton_iterations = 2;
   }
   return samples;
@@ -103,7 +104,7 @@ void BM_CsvRows(benchmark::State& bench) {
     CsvWriter csv(scratch() / "rows.csv", columns, {{"scene", scene.name}});
     for (const Sample& s : samples) {
       row[0] = s.t;
-      for (std::size_t i = 1; i < row.size(); ++i) row[i] = s.R.data()[i % 9] * static_cast<double>(i);
+      for (std::size_t i = 1; i < row.size(); ++i) row[i] = state_of<PendulumModel>(s).R.data()[i % 9] * static_cast<double>(i);
       csv.write_row(row);
     }
   }

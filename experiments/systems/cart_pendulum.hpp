@@ -1,5 +1,5 @@
-// The 3D pendulum on a cart in the harness (scene system "cart-pendulum"): SO(3) x R^2. The
-// sample carries the cart's (x, y) and (x', y') in the first two components of x and v.
+// The 3D pendulum on a cart in the harness (scene system "cart-pendulum"): SO(3) x R^2; its
+// state record carries the cart's q = (x, y) and q_dot = (x', y').
 #pragma once
 
 #include <array>
@@ -14,37 +14,74 @@ namespace lgvi::experiments {
 template <>
 struct SystemBinding<CartPendulumModel> {
   using M = CartPendulumModel;
+  using State = M::State;
   static constexpr bool single_body = false;
+
+  /// [parameters]: cart_mass, mass, inertia, d, gravity; [initial]: R (default identity),
+  /// Omega, q, q_dot; [control]: a 2-component sinusoid (the cart's forces u_x, u_y).
+  static void check_keys(const SceneReader& r, const SceneTable& parameters, const SceneTable& initial) {
+    r.check_keys(parameters, {"cart_mass", "mass", "inertia", "d", "gravity"});
+    r.check_keys(initial, concat_keys({SceneReader::attitude_keys("R"), {"Omega", "q", "q_dot"}}));
+  }
+  static void check_control_keys(const SceneReader& r, const SceneTable& control) {
+    r.check_keys(control, SceneReader::kSinusoidKeys);
+  }
+  static M read(const SceneReader& r, const SceneTable& parameters, const SceneTable& initial,
+                const std::optional<SceneTable>& control) {
+    const double cart_mass = r.number(parameters, "cart_mass");
+    const double mass = r.number(parameters, "mass");
+    const Mat3 J = r.inertia(parameters, "inertia");
+    const Vec3 d = r.vec3(parameters, "d");
+    const double g = r.number(parameters, "gravity");
+    State init;
+    init.R = r.attitude(initial, "R");
+    init.Omega = r.vec3(initial, "Omega");
+    init.q = r.vec2(initial, "q");
+    init.q_dot = r.vec2(initial, "q_dot");
+    M m{r.physics("parameters.", [&] { return CartPendulum(cart_mass, mass, J, d, g); }), init, {}};
+    if (control) m.control = r.sinusoid2(*control);
+    r.validate_initial_state(CartPendulumLgvi(m.system), m.system.energy(init.R, init.Omega, init.q_dot), init.R,
+                             init.q, init.Omega, init.q_dot);
+    return m;
+  }
 
   static void state_columns(std::vector<std::string>& c) {
     matrix_columns(c, "R");
     vector_columns(c, "Omega");
     for (const char* name : {"x", "y", "xdot", "ydot"}) c.push_back(name);
   }
-  static std::size_t write_state(const Sample& s, double* row, std::size_t n) {
+  static std::size_t write_state(const State& s, double* row, std::size_t n) {
     n = write_matrix(s.R, row, n);
-    n = write_vector(s.Omega, 3, row, n);
-    n = write_vector(s.x, 2, row, n);
-    return write_vector(s.v, 2, row, n);
+    n = write_vector(s.Omega, row, n);
+    n = write_vector(s.q, row, n);
+    return write_vector(s.q_dot, row, n);
   }
-  static Conserved conserved(const M& m, const Sample& s) {
-    const Vec2 q = s.x.head<2>(), q_dot = s.v.head<2>();
+  static Conserved conserved(const M& m, const State& s) {
     Vec3 Pi;
     Vec2 p;
-    m.system.momenta(s.R, s.Omega, q_dot, Pi, p);
-    return {m.system.energy(s.R, s.Omega, q_dot), Vec3(m.system.vertical_momentum(s.R, q, Pi, p), 0.0, 0.0), 1};
+    m.system.momenta(s.R, s.Omega, s.q_dot, Pi, p);
+    return {m.system.energy(s.R, s.Omega, s.q_dot), Vec3(m.system.vertical_momentum(s.R, s.q, Pi, p), 0.0, 0.0), 1};
   }
   static MomentumMap momentum_map() {
     return {"vertical angular momentum e3^T R Pi + x p_y - y p_x (momenta of eq. 37)", {"vertical_momentum"}};
   }
-  static double orthogonality_error(const Sample& s) { return so3::orthogonality_error(s.R); }
-  static double determinant_error(const Sample& s) { return so3::determinant_error(s.R); }
-  static double final_state_error(const Sample& s, const Sample& ref) {
+  static double orthogonality_error(const State& s) { return so3::orthogonality_error(s.R); }
+  static double determinant_error(const State& s) { return so3::determinant_error(s.R); }
+  static double final_state_error(const State& s, const State& ref) {
     const double e = std::max((s.R - ref.R).norm(), relative_error(s.Omega, ref.Omega));
-    return std::max({e, relative_error(s.x, ref.x), relative_error(s.v, ref.v)});
+    return std::max({e, relative_error(s.q, ref.q), relative_error(s.q_dot, ref.q_dot)});
+  }
+  static double distance(const State& a, const State& b) {
+    return (a.R - b.R).norm() + (a.Omega - b.Omega).norm() + (a.q - b.q).norm() + (a.q_dot - b.q_dot).norm();
   }
   static double initial_rate(const M& m) { return m.initial.Omega.norm(); }
+  /// Eq. 29 splits the potential symmetrically in both forms: the printed form is first order
+  /// only through a control at the step's end.
+  static int printed_order(const M& m) { return m.control ? 1 : 2; }
   static void drop_controls(M& m) { m.control.reset(); }
+  static std::string units() {
+    return "t [s], R [1], Omega [rad/s], energy [J], momentum [kg m^2/s], x y [m], xdot ydot [m/s]";
+  }
   static SystemLabels labels() {
     return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]"};
   }
@@ -58,14 +95,12 @@ struct SystemBinding<CartPendulumModel> {
       const Vec3 u = (*m.control)(t);
       return Vec2(u.x(), u.y());
     };
-    const auto to_sample = [&](const CartPendulumState& s, Sample& sample) {
-      Vec2 q_dot;
-      sample.R = s.R;
-      lgvi.velocities(s, sample.Omega, q_dot);
-      sample.x << s.q, 0.0;
-      sample.v << q_dot, 0.0;
+    const auto to_state = [&](const CartPendulumState& s, State& out) {
+      out.R = s.R;
+      out.q = s.q;
+      lgvi.velocities(s, out.Omega, out.q_dot);
     };
-    return drive(lgvi, state, control, to_sample);
+    return drive(lgvi, state, control, to_state);
   }
 
   template <class Chart>
@@ -77,11 +112,11 @@ struct SystemBinding<CartPendulumModel> {
                  m.initial.q_dot);
   }
   template <class Decoded>
-  static void from_chart(const Decoded& d, Sample& s) {
+  static void from_chart(const Decoded& d, State& s) {
     s.R = d.config.R[0];
     s.Omega = d.rates.Omega[0];
-    s.x << d.config.x, 0.0;  // (x, y, 0) and (x', y', 0), as the LGVI records them
-    s.v << d.rates.x_dot, 0.0;
+    s.q = d.config.x;
+    s.q_dot = d.rates.x_dot;
   }
 };
 

@@ -969,15 +969,16 @@ TEST(SuiteTiming, TimedCasesAreTimedAfterEveryCaseHasRunAndOneAtATime) {
 
 TEST(SuiteJobs, FinalStateErrorIsTheLargestRelativeDifference) {
   const experiments::Scene scene = experiments::load_scene(default_scene_file("free-body"));
-  experiments::Sample ref;
+  using experiments::FreeBodyModel;
+  experiments::Sample ref = experiments::sample_of<FreeBodyModel>();
   ref.t = 2.0;
-  ref.Omega = Vec3(3.0, 0.0, 4.0);  // |Omega| = 5
+  experiments::state_of<FreeBodyModel>(ref).Omega = Vec3(3.0, 0.0, 4.0);  // |Omega| = 5
   experiments::Sample s = ref;
-  s.Omega.x() += 0.05;  // relative 0.01
-  s.R(0, 1) = 1e-3;
+  experiments::state_of<FreeBodyModel>(s).Omega.x() += 0.05;  // relative 0.01
+  experiments::state_of<FreeBodyModel>(s).R(0, 1) = 1e-3;
   // 3.05 - 3 is 0.05 to a few ulps of 3: the tolerance is that rounding, relative to 5.
   EXPECT_NEAR(experiments::final_state_error(scene.model, s, ref), 0.01, 8 * 3.0 * 2.2e-16 / 5.0);
-  s.R(0, 1) = 0.5;
+  experiments::state_of<FreeBodyModel>(s).R(0, 1) = 0.5;
   EXPECT_DOUBLE_EQ(experiments::final_state_error(scene.model, s, ref), 0.5);
   s.t = 1.0;  // a run that stopped early has no final-state error
   EXPECT_TRUE(std::isnan(experiments::final_state_error(scene.model, s, ref)));
