@@ -242,6 +242,10 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
                   "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
                   "constraint curvature left out)")
       ->capture_default_str();
+  cmd->add_option("--state-guess", o.state_guess,
+                  "Direct method, --solver ipopt: initial states, simulated (the guess control's run) | geodesic "
+                  "(between the boundary states)")
+      ->capture_default_str();
   cmd->add_option("--shooting-interval", o.shooting_interval,
                   "Direct method, --solver ipopt: LGVI steps per shooting segment (1: every state a variable; "
                   "default 20)");

@@ -289,6 +289,14 @@ DirectSolver parse_direct_solver(const std::string& name) {
   throw InvalidInput("solver", "must be 'slsqp' or 'ipopt' (got '" + name + "')");
 }
 
+const char* to_string(ShootingStateGuess g) { return g == ShootingStateGuess::Simulated ? "simulated" : "geodesic"; }
+
+ShootingStateGuess parse_shooting_state_guess(const std::string& name) {
+  if (name == "simulated") return ShootingStateGuess::Simulated;
+  if (name == "geodesic") return ShootingStateGuess::Geodesic;
+  throw InvalidInput("state_guess", "must be 'simulated' or 'geodesic' (got '" + name + "')");
+}
+
 const char* to_string(IpoptHessian h) { return h == IpoptHessian::LimitedMemory ? "limited-memory" : "cost"; }
 
 IpoptHessian parse_ipopt_hessian(const std::string& name) {
@@ -543,13 +551,23 @@ std::string DirectTranscription<Model>::failure_message(const Evaluation& e) con
 // --- multiple shooting -------------------------------------------------------------------------
 
 template <class Model>
-bool DirectTranscription<Model>::shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingNodes& n,
-                                                Evaluation& e) const {
+bool DirectTranscription<Model>::shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingStateGuess guess,
+                                                ShootingNodes& n, Evaluation& e) const {
   if (interval < 1) throw InvalidInput("shooting_interval", "must be >= 1");
   n.nodes.clear();
   n.reference.clear();
   for (std::size_t k = 0; k < steps_; k += static_cast<std::size_t>(interval)) n.nodes.push_back(k);
   n.nodes.push_back(steps_);
+  if (guess == ShootingStateGuess::Geodesic) {
+    const State final_state = Model::final_state(lgvi_, problem_);
+    const typename Model::VecW d = Model::difference(initial_, final_state);
+    for (std::size_t j = 1; j + 1 < n.nodes.size(); ++j) {
+      const double tau = static_cast<double>(n.nodes[j]) / static_cast<double>(steps_);
+      n.reference.push_back(Model::retract(lgvi_, initial_, typename Model::VecW(tau * d)));
+    }
+    e.ok = true;
+    return true;
+  }
   const NodeControls U = node_controls(c);
   State s = initial_, next;
   std::size_t j = 1;

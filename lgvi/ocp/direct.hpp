@@ -97,6 +97,9 @@ struct CartPendulumDirectModel : DirectModelDimensions<10, 2, 10, 10> {
   static State initial_state(const Lgvi& lgvi, const Transfer& p) {
     return lgvi.make_state(p.R0, p.q0, p.Omega0, p.q_dot0);
   }
+  static State final_state(const Lgvi& lgvi, const Transfer& p) {
+    return lgvi.make_state(p.Rf, p.qf, p.Omegaf, p.q_dotf);
+  }
   /// Multiple shooting's chart: the first 3 * rotations tangent coordinates are rotation vectors
   /// (R -> R exp(hat eta)), the rest is added. retract(a, w) moves a by w; difference(a, b) is the
   /// w with retract(a, w) = b (log(R_a^T R_b) for the rotation, |angle| < pi).
@@ -119,6 +122,9 @@ struct ConnectedBodiesDirectModel : DirectModelDimensions<12, 3, 9, 12> {
   static MatRW residual_jacobian(const Lgvi& lgvi, const Transfer& p, const State& sN);
   static State initial_state(const Lgvi& lgvi, const Transfer& p) {
     return lgvi.make_state(p.R1_0, p.R2_0, p.Omega1_0, p.Omega2_0);
+  }
+  static State final_state(const Lgvi& lgvi, const Transfer& p) {
+    return lgvi.make_state(p.R1_f, p.R2_f, p.Omega1_f, p.Omega2_f);
   }
   static constexpr int rotations = 2;  ///< see CartPendulumDirectModel::retract
   static State retract(const Lgvi& lgvi, const State& a, const VecW& w);
@@ -152,6 +158,16 @@ const char* to_string(IpoptHessian h);
 /// Parses "limited-memory" or "cost"; throws InvalidInput("hessian", ...).
 IpoptHessian parse_ipopt_hessian(const std::string& name);
 
+/// Multiple shooting's initial guess for the state variables (the references ref_j, z_j = 0).
+/// Simulated: the LGVI run under the start's guess control (zero defects, the single-shooting
+/// start). Geodesic: the boundary states interpolated in the chart of Model::retract at the
+/// nodes' times, ref_j = retract(s_0, t_j/T difference(s_0, s_f)): rotations along the geodesic
+/// R_0 exp(t/T log(R_0^T R_f)), the other coordinates (positions, momenta) linearly.
+enum class ShootingStateGuess { Simulated, Geodesic };
+const char* to_string(ShootingStateGuess g);
+/// Parses "simulated" or "geodesic"; throws InvalidInput("state_guess", ...).
+ShootingStateGuess parse_shooting_state_guess(const std::string& name);
+
 struct DirectOptions {
   LgviForm form = LgviForm::Printed;  ///< printed: the paper's eqs. 34-35, 44-45 and cost 38, 48
   double h = 0.01;                    ///< t_final / h must be an integer (to 1e-9 relative)
@@ -164,6 +180,7 @@ struct DirectOptions {
   /// IPOPT: LGVI steps per shooting segment (1: every state a variable, DMOC's full transcription).
   int shooting_interval = 20;
   IpoptHessian ipopt_hessian = IpoptHessian::LimitedMemory;
+  ShootingStateGuess state_guess = ShootingStateGuess::Simulated;  ///< IPOPT's state variables
   int max_evaluations = 3000;     ///< SLSQP function evaluations per start; IPOPT: iterations per start
   double tolerance = 1e-10;       ///< on the violation (2-norm), checked on the returned point
   double ftol_rel = 1e-14;        ///< SLSQP's relative cost tolerance
@@ -315,9 +332,11 @@ class DirectTranscription {
     std::vector<State> reference;    ///< ref_1..ref_{K-1} (at nodes[1..K-1])
     int segments() const { return static_cast<int>(nodes.size()) - 1; }
   };
-  /// Nodes every `interval` steps, references from simulating the knot values c (the guess
-  /// control). Returns false (and leaves the failure in e) when that simulation fails.
-  bool shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingNodes& nodes, Evaluation& e) const;
+  /// Nodes every `interval` steps, references by `guess`: simulating the knot values c (the guess
+  /// control) or the geodesic between the boundary states (ShootingStateGuess). Returns false
+  /// (and leaves the failure in e) when the simulation fails.
+  bool shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingStateGuess guess, ShootingNodes& nodes,
+                      Evaluation& e) const;
   int shooting_variables(const ShootingNodes& n) const { return parameters() + (n.segments() - 1) * nw; }
   int shooting_constraints(const ShootingNodes& n) const { return (n.segments() - 1) * nw + constraints(); }
   /// The constraint Jacobian's dense blocks in the order evaluate_shooting fills jacobian_values
