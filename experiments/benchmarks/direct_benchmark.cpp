@@ -70,6 +70,28 @@ void BM_ConnectedBodiesSolve(benchmark::State& bench) {
   solve(bench, system, ocp::ConnectedBodiesTransfer::paper(), o);
 }
 
+// One evaluation of the multiple-shooting constraints (range 0: values only; 1: with the exact
+// sparse Jacobian), connected bodies, segments of 20 steps, geodesic references, random start 1's
+// knots. The cost of a Hessian of the Lagrangian by differences of these Jacobians follows
+// (README "Multiple shooting with IPOPT": 21 knot directions + 3 colours x 12 state directions).
+void BM_ConnectedBodiesShootingJacobian(benchmark::State& bench) {
+  using Model = ocp::ConnectedBodiesDirectModel;
+  const ConnectedBodies system = ConnectedBodies::paper();
+  const ocp::DirectOptions o;
+  const ocp::DirectTranscription<Model> tr(system, ocp::ConnectedBodiesTransfer::paper(), o);
+  const Eigen::VectorXd c = ocp::start_knots(system, o, 1);
+  ocp::DirectTranscription<Model>::ShootingNodes n;
+  ocp::DirectTranscription<Model>::Evaluation unused;
+  tr.shooting_nodes(c, 20, ocp::ShootingStateGuess::Geodesic, n, unused);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(tr.shooting_variables(n));
+  x.head(tr.parameters()) = c;
+  ocp::DirectTranscription<Model>::ShootingEvaluation e;
+  for (auto _ : bench) {
+    if (!tr.evaluate_shooting(n, x, bench.range(0) == 1, e)) bench.SkipWithError("simulation failed");
+    benchmark::DoNotOptimize(e.constraints.data());
+  }
+}
+
 // Single shooting (SLSQP, the paper's) against multiple shooting (IPOPT, limited-memory Hessian),
 // exact gradients both. Cart-pendulum from the default guess; connected bodies as the CLI runs
 // it: the 8-start multistart (seed 1), counters per run (feasible starts: violation <= 1e-10).
@@ -124,6 +146,7 @@ BENCHMARK(BM_CartPendulumGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond
 BENCHMARK(BM_ConnectedBodiesGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CartPendulumSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_ConnectedBodiesSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_ConnectedBodiesShootingJacobian)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CartPendulumSolver)->Args({0, 0, 0})->Args({1, 20, 0})->Args({1, 20, 1})->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_ConnectedBodiesMultistart)
     ->Args({0, 0, 0})
