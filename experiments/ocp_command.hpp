@@ -41,8 +41,8 @@ struct OcpCommand {
   int first_start = 0;                  ///< run starts first_start .. first_start + starts - 1
   std::string solver = "slsqp";         ///< or "ipopt" (multiple shooting; lgvi/ocp/README.md)
   std::string hessian = "limited-memory";  ///< ipopt: or "cost"
-  std::string state_guess = "simulated";  ///< ipopt: or "geodesic" (initial shooting states)
-  int shooting_interval = 0;            ///< ipopt: steps per shooting segment; 0: the default (20)
+  std::string state_guess = "geodesic";  ///< ipopt: or "simulated" (initial shooting states)
+  int shooting_interval = 0;            ///< ipopt: steps per shooting segment; 0: the default (40)
 };
 
 /// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive

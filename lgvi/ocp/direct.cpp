@@ -271,6 +271,16 @@ ConnectedBodiesDirectModel::VecW ConnectedBodiesDirectModel::difference(const St
   return w;
 }
 
+ConnectedBodiesDirectModel::VecW ConnectedBodiesDirectModel::geodesic_difference(const Lgvi& lgvi, const State& a,
+                                                                                 const State& b) {
+  VecW d = difference(a, b);
+  const Vec3 phi1 = d.segment<3>(0), phi2 = d.segment<3>(3);
+  // At a half turn both directions are minimal geodesics; body 2 turns against body 1 (chosen by
+  // measurement, README "Multiple shooting with IPOPT").
+  if (phi2.norm() > M_PI - 1e-9 && phi1.dot(phi2) > 0.0) d.segment<3>(3) = -phi2;
+  return d;
+}
+
 // --- names -------------------------------------------------------------------------------------
 
 const char* to_string(GradientMethod g) { return g == GradientMethod::Exact ? "exact" : "finite-difference"; }
@@ -560,7 +570,7 @@ bool DirectTranscription<Model>::shooting_nodes(const Eigen::VectorXd& c, int in
   n.nodes.push_back(steps_);
   if (guess == ShootingStateGuess::Geodesic) {
     const State final_state = Model::final_state(lgvi_, problem_);
-    const typename Model::VecW d = Model::difference(initial_, final_state);
+    const typename Model::VecW d = Model::geodesic_difference(lgvi_, initial_, final_state);
     for (std::size_t j = 1; j + 1 < n.nodes.size(); ++j) {
       const double tau = static_cast<double>(n.nodes[j]) / static_cast<double>(steps_);
       n.reference.push_back(Model::retract(lgvi_, initial_, typename Model::VecW(tau * d)));
