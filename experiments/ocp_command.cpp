@@ -261,9 +261,13 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
                   "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
                   "constraint curvature left out)")
       ->capture_default_str();
+  cmd->add_option("--state-guess", o.state_guess,
+                  "Direct method, --solver ipopt: initial states, geodesic (between the boundary states) | "
+                  "simulated (the guess control's run)")
+      ->capture_default_str();
   cmd->add_option("--shooting-interval", o.shooting_interval,
                   "Direct method, --solver ipopt: LGVI steps per shooting segment (1: every state a variable; "
-                  "default 20)");
+                  "default 40)");
   cmd->add_option("--seed", o.seed, "Direct method: seed of the random starts")->capture_default_str();
   cmd->add_option("--first-start", o.first_start,
                   "Direct method: number of the first start run (0 = the default guess; K > 0 the K-th "

@@ -42,7 +42,8 @@ struct OcpCommand {
   int first_start = 0;                  ///< run starts first_start .. first_start + starts - 1
   std::string solver = "slsqp";         ///< or "ipopt" (multiple shooting; lgvi/ocp/README.md)
   std::string hessian = "limited-memory";  ///< ipopt: or "cost"
-  int shooting_interval = 0;            ///< ipopt: steps per shooting segment; 0: the default (20)
+  std::string state_guess = "geodesic";  ///< ipopt: or "simulated" (initial shooting states)
+  int shooting_interval = 0;            ///< ipopt: steps per shooting segment; 0: the default (40)
 };
 
 /// An option check: the value is a number in [lo, hi] (finite), else "must be a number in RANGE

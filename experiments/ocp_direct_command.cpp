@@ -127,6 +127,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
                                  : "direct: cubic-spline controls, multiple shooting, IPOPT")},
       {"solver", std::string(ocp::to_string(options.solver))},
       {"hessian", std::string(options.solver == ocp::DirectSolver::Slsqp ? "" : ocp::to_string(options.ipopt_hessian))},
+      {"state_guess", std::string(options.solver == ocp::DirectSolver::Slsqp ? "" : ocp::to_string(options.state_guess))},
       {"shooting_interval", std::int64_t{options.solver == ocp::DirectSolver::Slsqp ? 0 : options.shooting_interval}},
       {"form", std::string(to_string(options.form))},
       {"h", options.h},
@@ -293,6 +294,11 @@ int run_ocp_direct_command(const OcpCommand& cmd, const std::string& command_lin
     options.ipopt_hessian = ocp::parse_ipopt_hessian(cmd.hessian);
   } catch (const InvalidInput&) {
     throw InvalidInput("--hessian", "must be 'limited-memory' or 'cost' (got '" + cmd.hessian + "')");
+  }
+  try {
+    options.state_guess = ocp::parse_shooting_state_guess(cmd.state_guess);
+  } catch (const InvalidInput&) {
+    throw InvalidInput("--state-guess", "must be 'simulated' or 'geodesic' (got '" + cmd.state_guess + "')");
   }
   const int default_cap = options.solver == ocp::DirectSolver::Slsqp ? kMaxEvaluations : kMaxIpoptIterations;
   options.max_evaluations = cmd.max_iterations > 0 ? cmd.max_iterations : default_cap;

@@ -5,6 +5,8 @@
 // (finite-difference / exact) of wall time and iterations are reported in lgvi/ocp/README.md.
 #include <benchmark/benchmark.h>
 
+#include <string>
+
 #include "lgvi/ocp/direct.hpp"
 
 namespace {
@@ -68,16 +70,41 @@ void BM_ConnectedBodiesSolve(benchmark::State& bench) {
   solve(bench, system, ocp::ConnectedBodiesTransfer::paper(), o);
 }
 
+// One evaluation of the multiple-shooting constraints (range 0: values only; 1: with the exact
+// sparse Jacobian), connected bodies, segments of 20 steps, geodesic references, random start 1's
+// knots. The cost of a Hessian of the Lagrangian by differences of these Jacobians follows
+// (README "Multiple shooting with IPOPT": 21 knot directions + 3 colours x 12 state directions).
+void BM_ConnectedBodiesShootingJacobian(benchmark::State& bench) {
+  using Model = ocp::ConnectedBodiesDirectModel;
+  const ConnectedBodies system = ConnectedBodies::paper();
+  const ocp::DirectOptions o;
+  const ocp::DirectTranscription<Model> tr(system, ocp::ConnectedBodiesTransfer::paper(), o);
+  const Eigen::VectorXd c = ocp::start_knots(system, o, 1);
+  ocp::DirectTranscription<Model>::ShootingNodes n;
+  ocp::DirectTranscription<Model>::Evaluation unused;
+  tr.shooting_nodes(c, 20, ocp::ShootingStateGuess::Geodesic, n, unused);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(tr.shooting_variables(n));
+  x.head(tr.parameters()) = c;
+  ocp::DirectTranscription<Model>::ShootingEvaluation e;
+  for (auto _ : bench) {
+    if (!tr.evaluate_shooting(n, x, bench.range(0) == 1, e)) bench.SkipWithError("simulation failed");
+    benchmark::DoNotOptimize(e.constraints.data());
+  }
+}
+
 // Single shooting (SLSQP, the paper's) against multiple shooting (IPOPT, limited-memory Hessian),
 // exact gradients both. Cart-pendulum from the default guess; connected bodies as the CLI runs
 // it: the 8-start multistart (seed 1), counters per run (feasible starts: violation <= 1e-10).
-// Arguments: solver (0 SLSQP, 1 IPOPT), steps per shooting segment (IPOPT).
+// Arguments: solver (0 SLSQP, 1 IPOPT), steps per shooting segment (IPOPT), initial states of
+// the shooting nodes (IPOPT; 0 simulated from the start's guess control, 1 geodesic between the
+// boundary states, the default).
 ocp::DirectOptions solver_options(const benchmark::State& bench) {
   ocp::DirectOptions o;
   if (bench.range(0) == 1) {
     o.solver = ocp::DirectSolver::IpoptMultipleShooting;
     o.shooting_interval = static_cast<int>(bench.range(1));
     o.max_evaluations = 1000;  // the CLI's IPOPT iteration cap
+    o.state_guess = bench.range(2) == 1 ? ocp::ShootingStateGuess::Geodesic : ocp::ShootingStateGuess::Simulated;
   }
   return o;
 }
@@ -94,6 +121,15 @@ void multistart(benchmark::State& bench, const System& system, const Transfer& p
   bench.counters["simulations"] = static_cast<double>(last.simulations);
   bench.counters["best_cost"] = last.cost;
   bench.counters["violation"] = last.violation;
+  // Per start k: solver iterations, wall seconds, cost and violation of the returned point.
+  for (std::size_t k = 0; k < last.starts.size(); ++k) {
+    const ocp::DirectStart& st = last.starts[k];
+    const std::string i = std::to_string(st.index);
+    bench.counters["s" + i + "_iter"] = st.iterations;
+    bench.counters["s" + i + "_sec"] = st.seconds;
+    bench.counters["s" + i + "_cost"] = st.cost;
+    bench.counters["s" + i + "_viol"] = st.violation;
+  }
 }
 
 void BM_CartPendulumSolver(benchmark::State& bench) {
@@ -110,8 +146,14 @@ BENCHMARK(BM_CartPendulumGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond
 BENCHMARK(BM_ConnectedBodiesGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CartPendulumSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_ConnectedBodiesSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK(BM_CartPendulumSolver)->Args({0, 0})->Args({1, 20})->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_ConnectedBodiesMultistart)->Args({0, 0})->Args({1, 20})->Args({1, 100})->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_ConnectedBodiesShootingJacobian)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CartPendulumSolver)->Args({0, 0, 0})->Args({1, 20, 0})->Args({1, 40, 1})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_ConnectedBodiesMultistart)
+    ->Args({0, 0, 0})
+    ->Args({1, 20, 0})
+    ->Args({1, 20, 1})
+    ->Args({1, 40, 1})
+    ->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 

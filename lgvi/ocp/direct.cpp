@@ -271,6 +271,16 @@ ConnectedBodiesDirectModel::VecW ConnectedBodiesDirectModel::difference(const St
   return w;
 }
 
+ConnectedBodiesDirectModel::VecW ConnectedBodiesDirectModel::geodesic_difference(const Lgvi& lgvi, const State& a,
+                                                                                 const State& b) {
+  VecW d = difference(a, b);
+  const Vec3 phi1 = d.segment<3>(0), phi2 = d.segment<3>(3);
+  // At a half turn both directions are minimal geodesics; body 2 turns against body 1 (chosen by
+  // measurement, README "Multiple shooting with IPOPT").
+  if (phi2.norm() > M_PI - 1e-9 && phi1.dot(phi2) > 0.0) d.segment<3>(3) = -phi2;
+  return d;
+}
+
 // --- names -------------------------------------------------------------------------------------
 
 const char* to_string(GradientMethod g) { return g == GradientMethod::Exact ? "exact" : "finite-difference"; }
@@ -287,6 +297,14 @@ DirectSolver parse_direct_solver(const std::string& name) {
   if (name == "slsqp") return DirectSolver::Slsqp;
   if (name == "ipopt") return DirectSolver::IpoptMultipleShooting;
   throw InvalidInput("solver", "must be 'slsqp' or 'ipopt' (got '" + name + "')");
+}
+
+const char* to_string(ShootingStateGuess g) { return g == ShootingStateGuess::Simulated ? "simulated" : "geodesic"; }
+
+ShootingStateGuess parse_shooting_state_guess(const std::string& name) {
+  if (name == "simulated") return ShootingStateGuess::Simulated;
+  if (name == "geodesic") return ShootingStateGuess::Geodesic;
+  throw InvalidInput("state_guess", "must be 'simulated' or 'geodesic' (got '" + name + "')");
 }
 
 const char* to_string(IpoptHessian h) { return h == IpoptHessian::LimitedMemory ? "limited-memory" : "cost"; }
@@ -543,13 +561,23 @@ std::string DirectTranscription<Model>::failure_message(const Evaluation& e) con
 // --- multiple shooting -------------------------------------------------------------------------
 
 template <class Model>
-bool DirectTranscription<Model>::shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingNodes& n,
-                                                Evaluation& e) const {
+bool DirectTranscription<Model>::shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingStateGuess guess,
+                                                ShootingNodes& n, Evaluation& e) const {
   if (interval < 1) throw InvalidInput("shooting_interval", "must be >= 1");
   n.nodes.clear();
   n.reference.clear();
   for (std::size_t k = 0; k < steps_; k += static_cast<std::size_t>(interval)) n.nodes.push_back(k);
   n.nodes.push_back(steps_);
+  if (guess == ShootingStateGuess::Geodesic) {
+    const State final_state = Model::final_state(lgvi_, problem_);
+    const typename Model::VecW d = Model::geodesic_difference(lgvi_, initial_, final_state);
+    for (std::size_t j = 1; j + 1 < n.nodes.size(); ++j) {
+      const double tau = static_cast<double>(n.nodes[j]) / static_cast<double>(steps_);
+      n.reference.push_back(Model::retract(lgvi_, initial_, typename Model::VecW(tau * d)));
+    }
+    e.ok = true;
+    return true;
+  }
   const NodeControls U = node_controls(c);
   State s = initial_, next;
   std::size_t j = 1;

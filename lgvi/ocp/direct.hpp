@@ -97,12 +97,17 @@ struct CartPendulumDirectModel : DirectModelDimensions<10, 2, 10, 10> {
   static State initial_state(const Lgvi& lgvi, const Transfer& p) {
     return lgvi.make_state(p.R0, p.q0, p.Omega0, p.q_dot0);
   }
+  static State final_state(const Lgvi& lgvi, const Transfer& p) {
+    return lgvi.make_state(p.Rf, p.qf, p.Omegaf, p.q_dotf);
+  }
   /// Multiple shooting's chart: the first 3 * rotations tangent coordinates are rotation vectors
   /// (R -> R exp(hat eta)), the rest is added. retract(a, w) moves a by w; difference(a, b) is the
   /// w with retract(a, w) = b (log(R_a^T R_b) for the rotation, |angle| < pi).
   static constexpr int rotations = 1;
   static State retract(const Lgvi& lgvi, const State& a, const VecW& w);
   static VecW difference(const State& a, const State& b);
+  /// The chart vector of the geodesic guess (ShootingStateGuess::Geodesic): difference(a, b).
+  static VecW geodesic_difference(const Lgvi&, const State& a, const State& b) { return difference(a, b); }
 };
 
 /// The same for the connected bodies: w = [eta1; eta2; dPi1; dPi2]. The residual's last three
@@ -120,9 +125,20 @@ struct ConnectedBodiesDirectModel : DirectModelDimensions<12, 3, 9, 12> {
   static State initial_state(const Lgvi& lgvi, const Transfer& p) {
     return lgvi.make_state(p.R1_0, p.R2_0, p.Omega1_0, p.Omega2_0);
   }
+  static State final_state(const Lgvi& lgvi, const Transfer& p) {
+    return lgvi.make_state(p.R1_f, p.R2_f, p.Omega1_f, p.Omega2_f);
+  }
   static constexpr int rotations = 2;  ///< see CartPendulumDirectModel::retract
   static State retract(const Lgvi& lgvi, const State& a, const VecW& w);
   static VecW difference(const State& a, const State& b);
+  /// The chart vector of the geodesic guess: difference(a, b), except that where body 2's
+  /// rotation is a half turn (angle within 1e-9 of pi, the cut locus: +phi and -phi are both
+  /// minimal geodesics) turning the same way as body 1, body 2 takes the other branch: the bodies
+  /// turn in opposite directions. A choice by measurement (README): for section 4.2's half turns
+  /// about x the opposite turns lead all 8 starts to the 0.0651 / 0.1015 optima, the same-way
+  /// turns to 0.3456..0.4658. (Not the guess of smaller angular momentum: by eq. 47's momentum
+  /// map at the initial attitudes the same-way turns carry less.)
+  static VecW geodesic_difference(const Lgvi& lgvi, const State& a, const State& b);
 };
 
 /// Tangent retraction for tests: the state moved by w (R -> R exp(hat eta), the rest added).
@@ -152,6 +168,17 @@ const char* to_string(IpoptHessian h);
 /// Parses "limited-memory" or "cost"; throws InvalidInput("hessian", ...).
 IpoptHessian parse_ipopt_hessian(const std::string& name);
 
+/// Multiple shooting's initial guess for the state variables (the references ref_j, z_j = 0).
+/// Simulated: the LGVI run under the start's guess control (zero defects, the single-shooting
+/// start). Geodesic: the boundary states interpolated in the chart of Model::retract at the
+/// nodes' times, ref_j = retract(s_0, t_j/T d), d = Model::geodesic_difference(s_0, s_f): rotations
+/// along a geodesic R_0 exp(t/T phi), phi = log(R_0^T R_f) (at half turns the model picks the
+/// branch), the other coordinates (positions, momenta) linearly.
+enum class ShootingStateGuess { Simulated, Geodesic };
+const char* to_string(ShootingStateGuess g);
+/// Parses "simulated" or "geodesic"; throws InvalidInput("state_guess", ...).
+ShootingStateGuess parse_shooting_state_guess(const std::string& name);
+
 struct DirectOptions {
   LgviForm form = LgviForm::Printed;  ///< printed: the paper's eqs. 34-35, 44-45 and cost 38, 48
   double h = 0.01;                    ///< t_final / h must be an integer (to 1e-9 relative)
@@ -161,9 +188,11 @@ struct DirectOptions {
   Eigen::MatrixXd W;              ///< n_u x n_u symmetric positive definite; empty: identity
   Eigen::VectorXd initial_knots;  ///< n_u * knots values, component by component; empty: default
   DirectSolver solver = DirectSolver::Slsqp;
-  /// IPOPT: LGVI steps per shooting segment (1: every state a variable, DMOC's full transcription).
-  int shooting_interval = 20;
+  /// IPOPT: LGVI steps per shooting segment (1: every state a variable, DMOC's full transcription;
+  /// 40 measured best with the geodesic guess, README).
+  int shooting_interval = 40;
   IpoptHessian ipopt_hessian = IpoptHessian::LimitedMemory;
+  ShootingStateGuess state_guess = ShootingStateGuess::Geodesic;  ///< IPOPT's state variables
   int max_evaluations = 3000;     ///< SLSQP function evaluations per start; IPOPT: iterations per start
   double tolerance = 1e-10;       ///< on the violation (2-norm), checked on the returned point
   double ftol_rel = 1e-14;        ///< SLSQP's relative cost tolerance
@@ -315,9 +344,11 @@ class DirectTranscription {
     std::vector<State> reference;    ///< ref_1..ref_{K-1} (at nodes[1..K-1])
     int segments() const { return static_cast<int>(nodes.size()) - 1; }
   };
-  /// Nodes every `interval` steps, references from simulating the knot values c (the guess
-  /// control). Returns false (and leaves the failure in e) when that simulation fails.
-  bool shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingNodes& nodes, Evaluation& e) const;
+  /// Nodes every `interval` steps, references by `guess`: simulating the knot values c (the guess
+  /// control) or the geodesic between the boundary states (ShootingStateGuess). Returns false
+  /// (and leaves the failure in e) when the simulation fails.
+  bool shooting_nodes(const Eigen::VectorXd& c, int interval, ShootingStateGuess guess, ShootingNodes& nodes,
+                      Evaluation& e) const;
   int shooting_variables(const ShootingNodes& n) const { return parameters() + (n.segments() - 1) * nw; }
   int shooting_constraints(const ShootingNodes& n) const { return (n.segments() - 1) * nw + constraints(); }
   /// The constraint Jacobian's dense blocks in the order evaluate_shooting fills jacobian_values

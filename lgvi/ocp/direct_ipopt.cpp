@@ -195,14 +195,15 @@ IpoptOutcome run_ipopt(const DirectTranscription<Model>& tr, const DirectOptions
   IpoptOutcome out;
   typename DirectTranscription<Model>::ShootingNodes nodes;
   typename DirectTranscription<Model>::Evaluation guess;
-  // The state variables start on the simulation of the guess control (zero chart offsets).
-  if (!tr.shooting_nodes(c, options.shooting_interval, nodes, guess)) {
+  // The state variables start at the references (zero chart offsets): the simulation of the guess
+  // control or the geodesic between the boundary states (options.state_guess).
+  if (!tr.shooting_nodes(c, options.shooting_interval, options.state_guess, nodes, guess)) {
     ++S.failed_simulations;
     S.last_failure = tr.failure_message(guess);
     out.code = "guess_simulation_failed";
     return out;
   }
-  ++S.simulations;
+  if (options.state_guess == ShootingStateGuess::Simulated) ++S.simulations;
   Ipopt::SmartPtr<ShootingNlp<Model>> nlp = new ShootingNlp<Model>(tr, nodes, c, options.ipopt_hessian, cost_scale, start_index, S, start);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   Ipopt::OptionsList& o = *app->Options();

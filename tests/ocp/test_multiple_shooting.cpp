@@ -33,7 +33,7 @@ void check_shooting_jacobian(const ocp::DirectTranscription<Model>& tr, const Ei
                              std::uint64_t salt) {
   typename ocp::DirectTranscription<Model>::ShootingNodes n;
   typename ocp::DirectTranscription<Model>::Evaluation guess;
-  ASSERT_TRUE(tr.shooting_nodes(c, interval, n, guess));
+  ASSERT_TRUE(tr.shooting_nodes(c, interval, ocp::ShootingStateGuess::Simulated, n, guess));
   auto rng = make_rng(salt);
   std::normal_distribution<double> normal;
   Eigen::VectorXd x(tr.shooting_variables(n));
@@ -96,7 +96,7 @@ TEST(MultipleShooting, AgreesWithSingleShootingOnTheSimulatedGuess) {
   const Eigen::VectorXd c = ocp::start_knots(system, o, 3);
   ocp::DirectTranscription<ocp::ConnectedBodiesDirectModel>::ShootingNodes n;
   ocp::DirectTranscription<ocp::ConnectedBodiesDirectModel>::Evaluation single;
-  ASSERT_TRUE(tr.shooting_nodes(c, 20, n, single));
+  ASSERT_TRUE(tr.shooting_nodes(c, 20, ocp::ShootingStateGuess::Simulated, n, single));
   EXPECT_EQ(n.segments(), 20);
   ASSERT_TRUE(tr.evaluate(c, false, single));
   Eigen::VectorXd x = Eigen::VectorXd::Zero(tr.shooting_variables(n));
@@ -107,6 +107,32 @@ TEST(MultipleShooting, AgreesWithSingleShootingOnTheSimulatedGuess) {
   EXPECT_LE(e.constraints.head(defects).cwiseAbs().maxCoeff(), 100.0 * kEps);
   EXPECT_EQ(e.constraints.tail(tr.constraints()), single.constraints);
   EXPECT_EQ(e.cost, single.cost);
+}
+
+// The geodesic state guess: each reference lies on the curve retract(s_0, tau d),
+// d = geodesic_difference(s_0, s_f), at its node's fraction of the horizon tau = n_j / N. Checked
+// by the chart itself: difference(s_0, ref_j) = tau d to round-off (100 eps: one exp and one log
+// of vectors of norm < pi, each accurate to a few eps, README so3). Section 4.2's boundary
+// rotations are half turns about x: body 1 takes log's principal branch, body 2 the opposite one
+// (ConnectedBodiesDirectModel::geodesic_difference).
+TEST(MultipleShooting, GeodesicGuessInterpolatesTheBoundaryStates) {
+  const ConnectedBodies system = ConnectedBodies::paper();
+  const ocp::DirectOptions o;
+  using Model = ocp::ConnectedBodiesDirectModel;
+  const ocp::DirectTranscription<Model> tr(system, ocp::ConnectedBodiesTransfer::paper(), o);
+  ocp::DirectTranscription<Model>::ShootingNodes n;
+  ocp::DirectTranscription<Model>::Evaluation unused;
+  ASSERT_TRUE(tr.shooting_nodes(ocp::start_knots(system, o, 3), 40, ocp::ShootingStateGuess::Geodesic, n, unused));
+  ASSERT_EQ(n.segments(), 10);
+  ASSERT_EQ(n.reference.size(), 9u);
+  const auto s0 = Model::initial_state(tr.lgvi(), tr.problem());
+  const Model::VecW d = Model::geodesic_difference(tr.lgvi(), s0, Model::final_state(tr.lgvi(), tr.problem()));
+  EXPECT_LE((d.head<3>() - Vec3(M_PI, 0.0, 0.0)).norm(), 100.0 * kEps);  // R1_f = diag(1, -1, -1)
+  EXPECT_LE((d.segment<3>(3) + Vec3(M_PI, 0.0, 0.0)).norm(), 100.0 * kEps);  // the other way round
+  for (std::size_t j = 0; j < n.reference.size(); ++j) {
+    const double tau = static_cast<double>(n.nodes[j + 1]) / static_cast<double>(tr.steps());
+    EXPECT_LE((Model::difference(s0, n.reference[j]) - tau * d).norm(), 100.0 * kEps) << "node " << j + 1;
+  }
 }
 
 // Section 4.1 by IPOPT (issue 17's bounds: violation <= 1e-10, cost <= 283.29, SLSQP's optimum
