@@ -6,7 +6,10 @@
 //   continuous  the same shooting on the initial costate of the continuous necessary
 //               conditions, integrated by CVODES (baselines/pontryagin.hpp), from the discrete
 //               solver's documented guess (all ones), from zero, and from the discrete solution
-//               (continuous_costate_from_discrete);
+//               (continuous_costate_from_discrete); the dumbbell's from its discrete symmetric
+//               solution, with the comparison (cost, multipliers, violations) in the table;
+//   globalizations  the dumbbell's discrete shooting by Newton-Armijo, the Newton homotopy,
+//               Levenberg-Marquardt and the non-monotone momentum-merit Armijo test;
 //   direct      spline controls + SLSQP on the cart-pendulum transfer of section 4.1
 //               (lgvi/ocp/direct.hpp; one start from the default guess): its SQP iterates' history
 //               (no Newton matrix, so no condition numbers).
