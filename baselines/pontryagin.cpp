@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "lgvi/ocp/models.hpp"
 #include "lgvi/ocp/newton_armijo.hpp"
 #include "lgvi/so3.hpp"
 
@@ -238,11 +239,308 @@ PontryaginEvaluation PendulumShootingFunction::evaluate(const Vec6& lambda0, boo
   return e;
 }
 
+std::pair<Mat6, Vec6> PendulumShootingFunction::terminal_symmetry(const PontryaginEvaluation& at) const {
+  const Vec3 PiT = ode_.system().inertia.J * at.Omega_final;
+  return {residual_jacobian(at.residual), conserved_gradient(at.R_final, PiT)};
+}
+
+// --- the dumbbell ------------------------------------------------------------------------------
+
+namespace {
+
+Mat6 validated_weight6(const Eigen::MatrixXd& W) {
+  if (W.size() == 0) return Mat6::Identity();
+  if (W.rows() != 6 || W.cols() != 6) throw InvalidInput("W", "must be 6x6");
+  require_finite(W, "W");
+  const double scale = W.cwiseAbs().maxCoeff();
+  if (scale == 0.0 || (W - W.transpose()).cwiseAbs().maxCoeff() > 1e-12 * scale) {
+    throw InvalidInput("W", "must be symmetric positive definite");
+  }
+  const Mat6 W6 = W;
+  if (Eigen::LLT<Mat6>(W6).info() != Eigen::Success) throw InvalidInput("W", "is not positive definite");
+  return W6;
+}
+
+}  // namespace
+
+DumbbellPontryaginOde::DumbbellPontryaginOde(const DumbbellSpacecraft& system, const Eigen::MatrixXd& W)
+    : system_(system), W_(validated_weight6(W)), W_inverse_(W_.inverse()) {}
+
+DumbbellPontryaginOde::State DumbbellPontryaginOde::initial_state(const ocp::TransferProblem& problem,
+                                                                  const Vec12& lambda0) const {
+  require_finite(problem.R0, "R0");
+  if (!so3::is_rotation(problem.R0, 1e-10)) throw InvalidInput("R0", "is not a rotation matrix");
+  require_finite(problem.x0, "x0");
+  require_finite(problem.Omega0, "Omega0");
+  require_finite(problem.v0, "v0");
+  require_finite(lambda0, "costate");
+  State y;
+  y.segment<4>(kQ) = QuaternionChart::from_rotation(problem.R0);
+  y.segment<3>(kX) = problem.x0;
+  y.segment<3>(kPi) = system_.inertia.J * problem.Omega0;
+  y.segment<3>(kP) = system_.mass * problem.v0;
+  y.segment<12>(kLambda) = lambda0;
+  y(kCost) = 0.0;
+  return y;
+}
+
+Vec6 DumbbellPontryaginOde::control(const Vec12& lambda) const { return -W_inverse_ * lambda.tail<6>(); }
+
+double DumbbellPontryaginOde::hamiltonian(const Mat3& R, const Vec3& x, const Vec3& Pi, const Vec3& p,
+                                          const Vec12& lambda, const Vec6& u) const {
+  const Vec3 Omega = system_.inertia.J_inverse * Pi;
+  const DumbbellSpacecraft::Forces phi = system_.forces(R, x);
+  return 0.5 * u.dot(W_ * u) + lambda.segment<3>(0).dot(Omega) + lambda.segment<3>(3).dot(p / system_.mass) +
+         lambda.segment<3>(6).dot(Pi.cross(Omega) + phi.moment + u.head<3>()) +
+         lambda.segment<3>(9).dot(phi.force + u.tail<3>());
+}
+
+Vec12 DumbbellPontryaginOde::costate_rate(const Mat3& R, const Vec3& x, const Vec3& Pi, const Vec12& lambda) const {
+  const ocp::DumbbellModel model(system_);
+  const Vec3 Omega = system_.inertia.J_inverse * Pi;
+  const Vec3 lR = lambda.segment<3>(0), lx = lambda.segment<3>(3), lPi = lambda.segment<3>(6);
+  const Vec6 GtlP = model.force_jacobian(R, x, Vec6::Zero()).transpose() * lambda.tail<6>();
+  Vec12 rate;
+  rate.segment<3>(0) = lR.cross(Omega) - GtlP.head<3>();
+  rate.segment<3>(3) = -GtlP.tail<3>();
+  rate.segment<3>(6) = -system_.inertia.J_inverse * (lR - Pi.cross(lPi)) - Omega.cross(lPi);
+  rate.segment<3>(9) = -lx / system_.mass;
+  return rate;
+}
+
+RhsStatus DumbbellPontryaginOde::rhs(double /*t*/, const double* y_ptr, double* ydot_ptr) const {
+  const Eigen::Map<const State> y(y_ptr);
+  Eigen::Map<State> ydot(ydot_ptr);
+  const QuaternionChart::Coords q = y.segment<4>(kQ);
+  const Mat3 R = QuaternionChart::rotation(q.normalized());
+  const Vec3 x = y.segment<3>(kX), Pi = y.segment<3>(kPi), p = y.segment<3>(kP);
+  const Vec12 lambda = y.segment<12>(kLambda);
+  const Vec3 Omega = system_.inertia.J_inverse * Pi;
+  const Vec6 u = control(lambda);
+  const DumbbellSpacecraft::Forces phi = system_.forces(R, x);
+  ydot.segment<4>(kQ) = QuaternionChart::rate(q, Omega);
+  ydot.segment<3>(kX) = p / system_.mass;
+  ydot.segment<3>(kPi) = Pi.cross(Omega) + phi.moment + u.head<3>();
+  ydot.segment<3>(kP) = phi.force + u.tail<3>();
+  ydot.segment<12>(kLambda) = costate_rate(R, x, Pi, lambda);
+  ydot(kCost) = 0.5 * u.dot(W_ * u);
+  return RhsStatus::Ok;
+}
+
+RhsStatus DumbbellPontryaginOde::jacobian(double /*t*/, const double* y_ptr, double* J_ptr) const {
+  const Eigen::Map<const State> y(y_ptr);
+  Eigen::Map<Jacobian> D(J_ptr);
+  D.setZero();
+  const ocp::DumbbellModel model(system_);
+  const QuaternionChart::Coords q = y.segment<4>(kQ);
+  const Mat3 R = QuaternionChart::rotation(q.normalized());
+  // dR = R hat(E dq) for R = rotation(q / |q|) (the radial direction of q drops out).
+  const Eigen::Matrix<double, 3, 4> E = eta_per_chart<QuaternionChart>(q);
+  const Vec3 x = y.segment<3>(kX), Pi = y.segment<3>(kPi);
+  const Vec12 lambda = y.segment<12>(kLambda);
+  const Vec6 lP = lambda.tail<6>();
+  const Mat3& Jinv = system_.inertia.J_inverse;
+  const Vec3 Omega = Jinv * Pi;
+  const Vec3 lR = lambda.segment<3>(0), lPi = lambda.segment<3>(6);
+  const Vec6 u = control(lambda);
+  const Mat6 G = model.force_jacobian(R, x, u);                                // d phi / d[eta; dx]
+  const Mat6 H = model.force_jacobian_transpose_derivative(R, x, u, lP);      // d (G^T lP) / d[eta; dx]
+  const double m = system_.mass;
+  constexpr int kLq = kLambda, kLPi = kLambda + 6, kLx = kLambda + 3;
+  // q' = rate(q, Omega).
+  D.block<4, 4>(kQ, kQ) = QuaternionChart::rate_jacobian(q, Omega);
+  D.block<4, 3>(kQ, kPi) = QuaternionChart::rate_omega_jacobian(q) * Jinv;
+  // x' = p / m.
+  D.block<3, 3>(kX, kP) = Mat3::Identity() / m;
+  // [Pi; p]' = [Pi x Omega; 0] + phi + u, u = -W^{-1} lP.
+  D.block<6, 4>(kPi, kQ) = G.leftCols<3>() * E;
+  D.block<6, 3>(kPi, kX) = G.rightCols<3>();
+  D.block<3, 3>(kPi, kPi) = -so3::hat(Omega) + so3::hat(Pi) * Jinv;
+  D.block<6, 6>(kPi, kLPi) = -W_inverse_;
+  // [lambda_R; lambda_x]' = [lambda_R x Omega; 0] - G^T lP.
+  D.block<6, 4>(kLq, kQ) = -H.leftCols<3>() * E;
+  D.block<6, 3>(kLq, kX) = -H.rightCols<3>();
+  D.block<3, 3>(kLq, kPi) = so3::hat(lR) * Jinv;
+  D.block<3, 3>(kLq, kLq) = -so3::hat(Omega);
+  D.block<6, 6>(kLq, kLPi) = -G.transpose();
+  // lambda_Pi' = -J^{-1} (lambda_R - Pi x lambda_Pi) - Omega x lambda_Pi.
+  D.block<3, 3>(kLPi, kPi) = -Jinv * so3::hat(lPi) + so3::hat(lPi) * Jinv;
+  D.block<3, 3>(kLPi, kLq) = -Jinv;
+  D.block<3, 3>(kLPi, kLPi) = Jinv * so3::hat(Pi) - so3::hat(Omega);
+  // lambda_p' = -lambda_x / m.
+  D.block<3, 3>(kLPi + 3, kLx) = -Mat3::Identity() / m;
+  // c' = 1/2 u^T W u: d/dlP = -u^T.
+  D.block<1, 6>(kCost, kLPi) = -u.transpose();
+  return RhsStatus::Ok;
+}
+
+DumbbellShootingFunction::DumbbellShootingFunction(const DumbbellSpacecraft& system,
+                                                   const ocp::TransferProblem& problem, const Eigen::MatrixXd& W,
+                                                   const SensitivitySettings& integration)
+    : ode_(system, W), problem_(problem), integration_(integration) {
+  require_finite(problem.Rf, "Rf");
+  if (!so3::is_rotation(problem.Rf, 1e-10)) throw InvalidInput("Rf", "is not a rotation matrix");
+  require_finite(problem.xf, "xf");
+  require_finite(problem.Omegaf, "Omegaf");
+  require_finite(problem.vf, "vf");
+  (void)ode_.initial_state(problem, Vec12::Zero());  // validates R0, x0, Omega0, v0
+  if (!(problem.t_final > 0.0) || !std::isfinite(problem.t_final)) throw InvalidInput("t_final", "must be finite and > 0");
+  if (!(integration.rtol > 0.0) || !std::isfinite(integration.rtol)) throw InvalidInput("rtol", "must be finite and > 0");
+}
+
+Mat12 DumbbellShootingFunction::residual_jacobian(const Vec12& r) const {
+  Mat12 D = Mat12::Identity();
+  D.topLeftCorner<3, 3>() = so3::right_jacobian_inverse(r.head<3>());
+  D.block<3, 3>(6, 6) = ode_.system().inertia.J_inverse;
+  D.block<3, 3>(9, 9) = Mat3::Identity() / ode_.system().mass;
+  return D;
+}
+
+DumbbellPontryaginEvaluation DumbbellShootingFunction::evaluate(const Vec12& lambda0, bool jacobian,
+                                                                ShootingJacobian method) const {
+  using Ode = DumbbellPontryaginOde;
+  DumbbellPontryaginEvaluation e;
+  if (!lambda0.allFinite()) {
+    e.message = "non-finite costate";
+    return e;
+  }
+  const Ode::State y0 = ode_.initial_state(problem_, lambda0);
+  const bool sens = jacobian && method == ShootingJacobian::Sensitivities;
+  Eigen::MatrixXd S0 = Eigen::MatrixXd::Zero(Ode::kDim, sens ? 12 : 0);
+  if (sens) S0.middleRows<12>(Ode::kLambda).setIdentity();
+  SensitivityResult run;
+  try {
+    run = integrate_sensitivities(ode_, y0, S0, 0.0, problem_.t_final, integration_);
+  } catch (const InvalidInput& error) {
+    e.message = error.what();
+    return e;
+  }
+  e.stats = run.stats;
+  if (!run.ok()) {
+    e.message = run.stats.brief();
+    return e;
+  }
+  const DumbbellSpacecraft& d = ode_.system();
+  const QuaternionChart::Coords q = run.y.segment<4>(Ode::kQ);
+  e.R_final = QuaternionChart::rotation(q.normalized());
+  e.x_final = run.y.segment<3>(Ode::kX);
+  e.Omega_final = d.inertia.J_inverse * run.y.segment<3>(Ode::kPi);
+  e.v_final = run.y.segment<3>(Ode::kP) / d.mass;
+  e.costate_final = run.y.segment<12>(Ode::kLambda);
+  e.cost = run.y(Ode::kCost);
+  e.residual << so3::log(problem_.Rf.transpose() * e.R_final), e.x_final - problem_.xf,
+      e.Omega_final - problem_.Omegaf, e.v_final - problem_.vf;
+  if (!e.residual.allFinite() || !std::isfinite(e.cost)) {
+    e.message = "non-finite terminal residual or cost";
+    return e;
+  }
+  e.ok = true;
+  if (!jacobian) return e;
+  if (sens) {
+    Eigen::Matrix<double, 12, Ode::kDim> T = Eigen::Matrix<double, 12, Ode::kDim>::Zero();
+    T.topLeftCorner<3, 4>() = eta_per_chart<QuaternionChart>(q);
+    T.block<9, 9>(3, Ode::kX).setIdentity();
+    e.Psi = T * run.S;
+    e.jacobian = residual_jacobian(e.residual) * e.Psi;
+  } else {
+    for (int i = 0; i < 12; ++i) {
+      const double a = std::cbrt(integration_.rtol) * std::max(1.0, std::abs(lambda0(i)));
+      Vec12 plus = lambda0, minus = lambda0;
+      plus(i) += a;
+      minus(i) -= a;
+      const DumbbellPontryaginEvaluation ep = evaluate(plus, false), em = evaluate(minus, false);
+      e.stats.steps += ep.stats.steps + em.stats.steps;
+      e.stats.rhs_evaluations += ep.stats.rhs_evaluations + em.stats.rhs_evaluations;
+      if (!ep.ok || !em.ok) {
+        e.ok = false;
+        e.message = "finite-difference column " + std::to_string(i) + ": " + (ep.ok ? em.message : ep.message);
+        return e;
+      }
+      e.jacobian.col(i) = (ep.residual - em.residual) / (2.0 * a);
+    }
+    e.Psi = residual_jacobian(e.residual).inverse() * e.jacobian;
+  }
+  if (!e.jacobian.allFinite()) {
+    e.ok = false;
+    e.message = "non-finite shooting Jacobian";
+  }
+  return e;
+}
+
 Vec6 continuous_costate_from_discrete(const Eigen::VectorXd& discrete_multiplier) {
   if (discrete_multiplier.size() != 6) throw InvalidInput("multiplier", "must have 6 entries [lambda_R; lambda_Pi]");
   require_finite(discrete_multiplier, "multiplier");
   return discrete_multiplier;
 }
+
+
+namespace {
+
+/// The Problem of ocp::newton_armijo_shooting for a continuous shooting function: one shot is one
+/// integration of the state-costate ODE (2 n + 1 with finite-difference Jacobians).
+template <class Fn, class Result, class Vec, class Mat>
+struct Integrations {
+  using Evaluation = decltype(Result::final);
+  const Fn& fn;
+  const ContinuousShootingOptions& o;
+  Result& result;
+  std::string failure;  // why the last failed evaluation failed
+
+  Evaluation evaluate(const Vec& l, bool jac) {
+    Evaluation e = fn.evaluate(l, jac, o.jacobian);
+    result.integrations += (jac && o.jacobian == ShootingJacobian::FiniteDifferences) ? 2 * Vec::RowsAtCompileTime + 1 : 1;
+    result.integration_steps += e.stats.steps;
+    result.rhs_evaluations += e.stats.rhs_evaluations;
+    return e;
+  }
+  // A failed evaluation leaves `out` alone: after a failed re-run the result reports the last
+  // successful one.
+  bool evaluate(const Vec& l, bool jac, Evaluation& out) {
+    Evaluation e = evaluate(l, jac);
+    if (!e.ok) {
+      failure = e.message;
+      return false;
+    }
+    out = std::move(e);
+    return true;
+  }
+  std::pair<Mat, Vec> terminal_symmetry(const Evaluation& current) const { return fn.terminal_symmetry(current); }
+  // The integration's noise floor: r carries a global error of ~kViolationPerRtol rtol that
+  // changes non-smoothly with lambda (step selection); no Newton step resolves r below it.
+  double round_off_floor(const Evaluation&, const Vec&) const { return kViolationPerRtol * o.integration.rtol; }
+  std::string stall_message(double violation, int it, double floor, double) const {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "no decrease below violation %.3g at outer iteration %d: that is the integration's noise floor "
+                  "(~%.2g at rtol %.3g), above the tolerance %.3g; tighten rtol or loosen the tolerance",
+                  violation, it, floor, o.integration.rtol, result.tolerance);
+    return buf;
+  }
+  std::string rerun_failure(const Evaluation&) const {
+    return "re-running the accepted step with its Jacobian: " + failure;
+  }
+};
+
+/// Validation of the options common to both systems; throws InvalidInput naming the field.
+void check_options(const ContinuousShootingOptions& o, int n) {
+  if (o.initial_costate.size() != 0) {
+    if (o.initial_costate.size() != n) {
+      throw InvalidInput("initial_costate", "must have " + std::to_string(n) + " entries");
+    }
+    require_finite(o.initial_costate, "initial_costate");
+  }
+  if (o.max_iterations < 0) throw InvalidInput("max_iterations", "must be >= 0");
+  if (o.max_backtracks < 0) throw InvalidInput("max_backtracks", "must be >= 0");
+  if (!(o.armijo > 0.0 && o.armijo < 1.0)) throw InvalidInput("armijo", "must lie in (0, 1)");
+  if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance)) throw InvalidInput("tolerance", "must be finite and >= 0");
+  if (o.polish_iterations < 0) throw InvalidInput("polish_iterations", "must be >= 0");
+  if (o.integration.atol && !(*o.integration.atol > 0.0 && std::isfinite(*o.integration.atol))) {
+    throw InvalidInput("atol", "must be finite and > 0");
+  }
+  if (o.integration.max_steps == 0) throw InvalidInput("max_steps", "must be > 0");
+}
+
+}  // namespace
 
 // --- Newton-Armijo shooting ------------------------------------------------------------------
 
@@ -265,20 +563,8 @@ ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::T
   Vec6 lambda = Vec6::Zero();
   try {
     fn = std::make_unique<PendulumShootingFunction>(system, problem, o.W, o.integration);
-    if (o.initial_costate.size() != 0) {
-      if (o.initial_costate.size() != 6) throw InvalidInput("initial_costate", "must have 6 entries");
-      require_finite(o.initial_costate, "initial_costate");
-      lambda = o.initial_costate;
-    }
-    if (o.max_iterations < 0) throw InvalidInput("max_iterations", "must be >= 0");
-    if (o.max_backtracks < 0) throw InvalidInput("max_backtracks", "must be >= 0");
-    if (!(o.armijo > 0.0 && o.armijo < 1.0)) throw InvalidInput("armijo", "must lie in (0, 1)");
-    if (!(o.tolerance >= 0.0) || !std::isfinite(o.tolerance)) throw InvalidInput("tolerance", "must be finite and >= 0");
-    if (o.polish_iterations < 0) throw InvalidInput("polish_iterations", "must be >= 0");
-    if (o.integration.atol && !(*o.integration.atol > 0.0 && std::isfinite(*o.integration.atol))) {
-      throw InvalidInput("atol", "must be finite and > 0");
-    }
-    if (o.integration.max_steps == 0) throw InvalidInput("max_steps", "must be > 0");
+    check_options(o, 6);
+    if (o.initial_costate.size() != 0) lambda = o.initial_costate;
   } catch (const InvalidInput& e) {
     S.status = ocp::ShootingStatus::InvalidInput;
     S.message = e.what();
@@ -288,54 +574,7 @@ ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::T
   S.multiplier_guess = lambda;
   S.multiplier = lambda;
 
-  // One shot is one integration of the state-costate ODE (13 with finite-difference Jacobians).
-  struct Integrations {
-    const Pendulum3D& system;
-    const PendulumShootingFunction& fn;
-    const ContinuousShootingOptions& o;
-    ContinuousShootingResult& result;
-    std::string failure;  // why the last failed evaluation failed
-
-    PontryaginEvaluation evaluate(const Vec6& l, bool jac) {
-      PontryaginEvaluation e = fn.evaluate(l, jac, o.jacobian);
-      result.integrations += (jac && o.jacobian == ShootingJacobian::FiniteDifferences) ? 13 : 1;
-      result.integration_steps += e.stats.steps;
-      result.rhs_evaluations += e.stats.rhs_evaluations;
-      return e;
-    }
-    // A failed evaluation leaves `out` alone: after a failed re-run the result reports the last
-    // successful one.
-    bool evaluate(const Vec6& l, bool jac, PontryaginEvaluation& out) {
-      PontryaginEvaluation e = evaluate(l, jac);
-      if (!e.ok) {
-        failure = e.message;
-        return false;
-      }
-      out = std::move(e);
-      return true;
-    }
-    std::pair<Mat6, Vec6> terminal_symmetry(const PontryaginEvaluation& current) const {
-      const Vec3 PiT = system.inertia.J * current.Omega_final;
-      return {fn.residual_jacobian(current.residual),
-              PendulumShootingFunction::conserved_gradient(current.R_final, PiT)};
-    }
-    // The integration's noise floor: r carries a global error of ~kViolationPerRtol rtol that
-    // changes non-smoothly with lambda (step selection); no Newton step resolves r below it.
-    double round_off_floor(const PontryaginEvaluation&, const Vec6&) const {
-      return kViolationPerRtol * o.integration.rtol;
-    }
-    std::string stall_message(double violation, int it, double floor, double) const {
-      char buf[400];
-      std::snprintf(buf, sizeof buf,
-                    "no decrease below violation %.3g at outer iteration %d: that is the integration's noise floor "
-                    "(~%.2g at rtol %.3g), above the tolerance %.3g; tighten rtol or loosen the tolerance",
-                    violation, it, floor, o.integration.rtol, result.tolerance);
-      return buf;
-    }
-    std::string rerun_failure(const PontryaginEvaluation&) const {
-      return "re-running the accepted step with its Jacobian: " + failure;
-    }
-  } integrations{system, *fn, o, result, {}};
+  Integrations<PendulumShootingFunction, ContinuousShootingResult, Vec6, Mat6> integrations{*fn, o, result, {}};
 
   PontryaginEvaluation current = integrations.evaluate(lambda, true);
   S.sweeps = 1;
@@ -357,6 +596,63 @@ ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::T
     const Vec3 Pi0 = system.inertia.J * problem.Omega0;
     newton.initial_conserved_gradient = PendulumShootingFunction::conserved_gradient(problem.R0, Pi0);
   }
+  ocp::newton_armijo_shooting(integrations, newton, lambda, current, S);
+  S.steps = current.stats.steps;
+  result.final = current;
+  return result;
+}
+
+}  // namespace lgvi::baselines
+
+namespace lgvi::baselines {
+
+DumbbellContinuousShootingResult solve_pontryagin(const DumbbellSpacecraft& system,
+                                                  const ocp::TransferProblem& problem,
+                                                  const ContinuousShootingOptions& o) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  DumbbellContinuousShootingResult result;
+  ocp::ShootingSummary& S = result.summary;
+  S.system = "dumbbell (continuous)";
+  S.h = 0.0;
+  S.decomposition = false;
+  result.rtol = o.integration.rtol;
+  result.jacobian = o.jacobian;
+  const double tolerance = o.tolerance > 0.0 ? o.tolerance : kViolationPerRtol * o.integration.rtol;
+  result.tolerance = tolerance;
+  std::unique_ptr<DumbbellShootingFunction> fn;
+  Vec12 lambda = Vec12::Zero();
+  try {
+    fn = std::make_unique<DumbbellShootingFunction>(system, problem, o.W, o.integration);
+    check_options(o, 12);
+    if (o.initial_costate.size() != 0) lambda = o.initial_costate;
+  } catch (const InvalidInput& e) {
+    S.status = ocp::ShootingStatus::InvalidInput;
+    S.message = e.what();
+    S.wall_seconds = seconds();
+    return result;
+  }
+  S.multiplier_guess = lambda;
+  S.multiplier = lambda;
+  Integrations<DumbbellShootingFunction, DumbbellContinuousShootingResult, Vec12, Mat12> integrations{
+      *fn, o, result, {}};
+  DumbbellPontryaginEvaluation current = integrations.evaluate(lambda, true);
+  S.sweeps = 1;
+  if (!current.ok) {
+    S.status = ocp::ShootingStatus::SweepFailed;
+    S.message = "the initial costate guess: " + current.message;
+    S.wall_seconds = seconds();
+    result.final = current;
+    return result;
+  }
+  ocp::NewtonArmijoOptions<12> newton;
+  newton.max_iterations = o.max_iterations;
+  newton.max_backtracks = o.max_backtracks;
+  newton.armijo = o.armijo;
+  newton.tolerance = tolerance;
+  newton.polish_iterations = o.polish_iterations;
+  newton.start = start;
   ocp::newton_armijo_shooting(integrations, newton, lambda, current, S);
   S.steps = current.stats.steps;
   result.final = current;

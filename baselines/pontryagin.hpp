@@ -38,6 +38,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -46,6 +47,7 @@
 #include "baselines/ode.hpp"
 #include "baselines/sensitivity.hpp"
 #include "lgvi/ocp/indirect.hpp"
+#include "lgvi/systems/dumbbell.hpp"
 #include "lgvi/systems/pendulum.hpp"
 
 namespace lgvi::baselines {
@@ -104,8 +106,8 @@ const char* to_string(ShootingJacobian j);
 inline constexpr double kViolationPerRtol = 100.0;
 
 struct ContinuousShootingOptions {
-  Eigen::MatrixXd W;                ///< 3x3 symmetric positive definite; empty: identity
-  Eigen::VectorXd initial_costate;  ///< [lambda_R; lambda_Pi](0) guess (6); empty: zero
+  Eigen::MatrixXd W;                ///< 3x3 (dumbbell 6x6) symmetric positive definite; empty: identity
+  Eigen::VectorXd initial_costate;  ///< [lambda_R; lambda_Pi](0) guess (6; dumbbell 12); empty: zero
   bool decomposition = true;        ///< Newton on the symmetry's 5x5 shape block
   ShootingJacobian jacobian = ShootingJacobian::Sensitivities;
   /// rtol (default 1e-10), method, corrector; step budget per integration 20000 (the paper's
@@ -151,6 +153,8 @@ class PendulumShootingFunction {
   static Vec6 conserved_gradient(const Mat3& R, const Vec3& Pi);
   /// D = d r / d[eta; dPi](T) at the residual r.
   Mat6 residual_jacobian(const Vec6& r) const;
+  /// D and dC(s_T), from which the decomposition's u_g = D^{-T} dC(s_T).
+  std::pair<Mat6, Vec6> terminal_symmetry(const PontryaginEvaluation& at) const;
 
   const PendulumPontryaginOde& ode() const { return ode_; }
   const ocp::TransferProblem& problem() const { return problem_; }
@@ -162,7 +166,8 @@ class PendulumShootingFunction {
   SensitivitySettings integration_;
 };
 
-struct ContinuousShootingResult {
+template <class Evaluation>
+struct ContinuousShootingResultOf {
   /// Same type and meaning as the discrete solver's (status, iterations, history with violation,
   /// step length and condition numbers, brief()); system "pendulum (continuous)", h = 0,
   /// steps = CVODES steps of the final integration, multiplier = lambda(0).
@@ -173,14 +178,126 @@ struct ContinuousShootingResult {
   std::size_t integrations = 0;       ///< every integration (sweeps, FD columns)
   std::size_t integration_steps = 0;  ///< summed CVODES steps
   std::size_t rhs_evaluations = 0;    ///< summed
-  PontryaginEvaluation final;         ///< the last accepted point (with its Jacobian)
+  Evaluation final;                   ///< the last accepted point (with its Jacobian)
 };
+using ContinuousShootingResult = ContinuousShootingResultOf<PontryaginEvaluation>;
 
 /// Newton-Armijo shooting on lambda(0) (the discrete solver's algorithm, Kelley 2003 sec. 1.10,
 /// with the same symmetry decomposition and statuses; SweepFailed: an integration failed). Never
 /// throws; bad input becomes status InvalidInput with a message naming the field.
 ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::TransferProblem& problem,
                                           const ContinuousShootingOptions& options);
+
+// --- the dumbbell (section 3.1) ----------------------------------------------------------------
+//
+// The continuous necessary conditions of the dumbbell's orbit transfer, the baseline of the discrete
+// solver's dumbbell (lgvi/ocp/indirect.hpp, the same TransferProblem::dumbbell_paper()):
+//   R' = R hat(Omega), x' = p / m, Pi' = Pi x Omega + M(R, x) + u_m, p' = f(R, x) + u_f,
+//   Omega = J^{-1} Pi, phi = [M; f] the gravity force of eqs. 13, 20 (DumbbellSpacecraft::forces),
+//   minimize J = int_0^T 1/2 u^T W u dt, u = [u_m (body); u_f (inertial)], both ends given.
+// Costates on the tangent w = [eta; dx; dPi; dp] (dR = R hat(eta)), the discrete multipliers'
+// coordinates; with G = dphi/d[eta; dx] (ocp::DumbbellModel::force_jacobian) and the Hamiltonian
+// H = 1/2 u^T W u + lambda_R.Omega + lambda_x.p/m + lambda_Pi.(Pi x Omega + M + u_m) + lambda_p.(f + u_f):
+//   u          = -W^{-1} lambda_P,  lambda_P = [lambda_Pi; lambda_p]            (dH/du = 0; B = I)
+//   [lambda_R; lambda_x]' = [lambda_R x Omega; 0] - G^T lambda_P                 (-dH/d[eta; x], coadjoint term)
+//   lambda_Pi' = -J^{-1} (lambda_R - Pi x lambda_Pi) - Omega x lambda_Pi          (-dH/dPi)
+//   lambda_p'  = -lambda_x / m                                                    (-dH/dp)
+// (continuous counterparts of eqs. 17-19; tests/baselines check them against finite differences of H).
+// Integration: y = [q; x; Pi; p; lambda (12); c] (26 entries), the rotation from the normalized
+// quaternion (so the analytic Jacobian's chain rule dR = R hat(eta_per_chart(q) dq) is exact off the
+// unit sphere too); the Jacobian's second-derivative block d(G^T lambda_P)/d[eta; dx] is
+// ocp::DumbbellModel::force_jacobian_transpose_derivative (the third derivative of the potential).
+// Terminal residual as the discrete solver's r = [log(R_f^T R(T)); x(T) - x_f; Omega(T) - Omega_f;
+// v(T) - v_f], dr/dlambda(0) = blockdiag(Jr^{-1}(r_R), I, J^{-1}, I/m) d w(T)/dlambda(0).
+// No symmetry: Newton-Armijo on the full 12x12 system.
+
+using Vec12 = Eigen::Matrix<double, 12, 1>;
+using Mat12 = Eigen::Matrix<double, 12, 12>;
+
+/// The state-costate ODE of the dumbbell (comment above). Holds the system by reference.
+class DumbbellPontryaginOde final : public Ode {
+ public:
+  static constexpr int kDim = 26;
+  static constexpr int kQ = 0, kX = 4, kPi = 7, kP = 10, kLambda = 13, kCost = 25;  ///< offsets in y
+  using State = Vector<kDim>;
+  using Jacobian = Eigen::Matrix<double, kDim, kDim, Eigen::RowMajor>;
+
+  /// W: 6x6 symmetric positive definite (empty: identity). Throws InvalidInput("W", ...).
+  DumbbellPontryaginOde(const DumbbellSpacecraft& system, const Eigen::MatrixXd& W);
+
+  /// y(0) from the boundary values and the initial costate; cost 0. Throws InvalidInput.
+  State initial_state(const ocp::TransferProblem& problem, const Vec12& lambda0) const;
+  /// The optimal control u = -W^{-1} lambda_P = [u_m; u_f].
+  Vec6 control(const Vec12& lambda) const;
+  /// H (comment above) at (R, x, Pi, p, lambda) for any u.
+  double hamiltonian(const Mat3& R, const Vec3& x, const Vec3& Pi, const Vec3& p, const Vec12& lambda,
+                     const Vec6& u) const;
+  /// d lambda / dt at (R, x, Pi, lambda) with the optimal control (comment above).
+  Vec12 costate_rate(const Mat3& R, const Vec3& x, const Vec3& Pi, const Vec12& lambda) const;
+
+  int dimension() const override { return kDim; }
+  std::string model_name() const override { return "dumbbell-pontryagin-quaternion"; }
+  bool time_dependent() const override { return false; }
+  RhsStatus rhs(double t, const double* y, double* ydot) const override;
+  /// Analytic (all blocks); tests/baselines checks it against central differences.
+  RhsStatus jacobian(double t, const double* y, double* dfdy_row_major) const override;
+
+  const DumbbellSpacecraft& system() const { return system_; }
+  const Mat6& W() const { return W_; }
+
+ private:
+  const DumbbellSpacecraft& system_;
+  Mat6 W_;
+  Mat6 W_inverse_;
+};
+
+/// One integration of the dumbbell's necessary conditions from lambda(0).
+struct DumbbellPontryaginEvaluation {
+  bool ok = false;
+  std::string message;
+  Stats stats;
+  Vec12 residual = Vec12::Zero();
+  double cost = 0.0;
+  Mat12 jacobian = Mat12::Zero();  ///< dr/dlambda(0) (when requested)
+  Mat12 Psi = Mat12::Zero();       ///< d[eta; dx; dPi; dp](T) / dlambda(0), the continuous Psi12
+  Mat3 R_final = Mat3::Identity();
+  Vec3 x_final = Vec3::Zero();
+  Vec3 Omega_final = Vec3::Zero();
+  Vec3 v_final = Vec3::Zero();
+  Vec12 costate_final = Vec12::Zero();
+};
+
+/// The dumbbell's shooting function lambda(0) -> r, J, dr/dlambda(0). Holds the system by reference.
+class DumbbellShootingFunction {
+ public:
+  DumbbellShootingFunction(const DumbbellSpacecraft& system, const ocp::TransferProblem& problem,
+                           const Eigen::MatrixXd& W, const SensitivitySettings& integration);
+  DumbbellPontryaginEvaluation evaluate(const Vec12& lambda0, bool jacobian,
+                                        ShootingJacobian method = ShootingJacobian::Sensitivities) const;
+  /// D = d r / d[eta; dx; dPi; dp](T) at the residual r.
+  Mat12 residual_jacobian(const Vec12& r) const;
+  /// D and a zero conserved gradient (no symmetry; the decomposition is never used).
+  std::pair<Mat12, Vec12> terminal_symmetry(const DumbbellPontryaginEvaluation& at) const {
+    return {residual_jacobian(at.residual), Vec12::Zero()};
+  }
+
+  const DumbbellPontryaginOde& ode() const { return ode_; }
+  const ocp::TransferProblem& problem() const { return problem_; }
+
+ private:
+  DumbbellPontryaginOde ode_;
+  ocp::TransferProblem problem_;
+  SensitivitySettings integration_;
+};
+
+using DumbbellContinuousShootingResult = ContinuousShootingResultOf<DumbbellPontryaginEvaluation>;
+
+/// Newton-Armijo shooting on the dumbbell's lambda(0) (the discrete solver's algorithm without the
+/// decomposition; options.decomposition is ignored; options.initial_costate has 12 entries, empty:
+/// zero, the uncontrolled motion; W 6x6). Never throws.
+DumbbellContinuousShootingResult solve_pontryagin(const DumbbellSpacecraft& system,
+                                                  const ocp::TransferProblem& problem,
+                                                  const ContinuousShootingOptions& options);
 
 /// The continuous initial costate that corresponds to the discrete solver's initial multiplier
 /// (ShootingSummary::multiplier of solve_indirect on the pendulum): the identity, checked for

@@ -136,6 +136,7 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
       {"decomposition", S.decomposition},
       {"merit", std::string(ocp::to_string(options.merit))},
       {"globalization", std::string(ocp::to_string(options.globalization))},
+      {"nonmonotone_memory", static_cast<std::int64_t>(options.nonmonotone_memory)},
       {"status", std::string(ocp::to_string(S.status))},
       {"status_detail", S.brief()},
       {"converged", S.converged()},
@@ -235,7 +236,14 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
                 "Pendulum: invert the full (rank-deficient) sensitivity instead of its shape block");
   cmd->add_option("--merit", o.merit, "Line-search merit: velocity (default) | momentum")->capture_default_str();
   cmd->add_option("--globalization", o.globalization,
-                  "Indirect method: newton-armijo (the paper's; default) | levenberg-marquardt")
+                  "Indirect method: newton-armijo (the paper's; default) | levenberg-marquardt | homotopy "
+                  "(Newton homotopy path following, then Newton-Armijo)")
+      ->capture_default_str();
+  cmd->add_option("--lm-damping", o.lm_damping, "Levenberg-Marquardt: initial damping mu_0 (relative to diag(J^T J))")
+      ->capture_default_str();
+  cmd->add_option("--nonmonotone-memory", o.nonmonotone_memory,
+                  "Newton-Armijo / homotopy end game: Armijo test against the largest merit of the last M "
+                  "accepted points (1: monotone)")
       ->capture_default_str();
   cmd->add_option("--guess", o.guess, "Initial multiplier lambda_0, comma-separated (6 pendulum, 12 dumbbell values)")
       ->delimiter(',');
@@ -322,8 +330,13 @@ int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std:
     options.globalization = ocp::parse_globalization(cmd.globalization);
   } catch (const InvalidInput&) {
     throw InvalidInput("--globalization",
-                       "must be 'newton-armijo' or 'levenberg-marquardt' (got '" + cmd.globalization + "')");
+                       "must be 'newton-armijo', 'levenberg-marquardt' or 'homotopy' (got '" +
+                           cmd.globalization + "')");
   }
+  if (!(cmd.lm_damping > 0.0) || !std::isfinite(cmd.lm_damping)) throw InvalidInput("--lm-damping", "must be > 0");
+  options.lm_initial_damping = cmd.lm_damping;
+  if (cmd.nonmonotone_memory < 1) throw InvalidInput("--nonmonotone-memory", "must be >= 1");
+  options.nonmonotone_memory = cmd.nonmonotone_memory;
   options.max_iterations = cmd.max_iterations > 0 ? cmd.max_iterations : 300;
   const bool pendulum = cmd.system == "pendulum";
   ocp::TransferProblem problem =

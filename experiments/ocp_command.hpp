@@ -26,7 +26,9 @@ struct OcpCommand {
   long long steps = 0;      ///< alternative to h: t_final / steps
   bool no_decomposition = false;
   std::string merit = "velocity";
-  std::string globalization = "newton-armijo";  ///< indirect: or "levenberg-marquardt"
+  std::string globalization = "newton-armijo";  ///< indirect: or "levenberg-marquardt", "homotopy"
+  double lm_damping = 1e-3;          ///< indirect, levenberg-marquardt: initial damping mu_0
+  int nonmonotone_memory = 1;        ///< indirect: Armijo test against the max merit of this many points
   std::vector<double> guess;  ///< lambda_0; empty: the documented default
   int max_iterations = 0;      ///< 0: the method's default (indirect 300, direct 3000)
   double t_final = 0.0;        ///< 0: the paper's horizon

@@ -52,13 +52,20 @@ TransferProblem TransferProblem::dumbbell_paper() {
 const char* to_string(Merit m) { return m == Merit::Velocity ? "velocity" : "momentum"; }
 
 const char* to_string(Globalization g) {
-  return g == Globalization::NewtonArmijo ? "newton-armijo" : "levenberg-marquardt";
+  switch (g) {
+    case Globalization::NewtonArmijo: return "newton-armijo";
+    case Globalization::LevenbergMarquardt: return "levenberg-marquardt";
+    case Globalization::Homotopy: return "homotopy";
+  }
+  return "unknown";
 }
 
 Globalization parse_globalization(const std::string& name) {
   if (name == "newton-armijo") return Globalization::NewtonArmijo;
   if (name == "levenberg-marquardt") return Globalization::LevenbergMarquardt;
-  throw InvalidInput("globalization", "must be 'newton-armijo' or 'levenberg-marquardt' (got '" + name + "')");
+  if (name == "homotopy") return Globalization::Homotopy;
+  throw InvalidInput("globalization",
+                     "must be 'newton-armijo', 'levenberg-marquardt' or 'homotopy' (got '" + name + "')");
 }
 
 Merit parse_merit(const std::string& name) {
@@ -421,6 +428,17 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
     if (!(o.armijo > 0.0 && o.armijo < 1.0)) throw InvalidInput("armijo", "must lie in (0, 1)");
     if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw InvalidInput("tolerance", "must be finite and > 0");
     if (o.polish_iterations < 0) throw InvalidInput("polish_iterations", "must be >= 0");
+    if (!(o.lm_initial_damping > 0.0) || !std::isfinite(o.lm_initial_damping)) {
+      throw InvalidInput("lm_initial_damping", "must be finite and > 0");
+    }
+    if (o.globalization == Globalization::Homotopy && Model::has_symmetry) {
+      throw InvalidInput("globalization", "homotopy inverts the full sensitivity: not for a system with a symmetry "
+                                          "(the pendulum's is singular)");
+    }
+    if (o.nonmonotone_memory < 1) throw InvalidInput("nonmonotone_memory", "must be >= 1");
+    if (!(o.homotopy_initial_step > 0.0 && o.homotopy_initial_step <= 1.0)) {
+      throw InvalidInput("homotopy_initial_step", "must lie in (0, 1]");
+    }
   } catch (const InvalidInput& e) {
     S.status = ShootingStatus::InvalidInput;
     S.message = e.what();
@@ -448,6 +466,8 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
   newton.tolerance = o.tolerance;
   newton.polish_iterations = o.polish_iterations;
   newton.levenberg_marquardt = o.globalization == Globalization::LevenbergMarquardt;
+  newton.lm_initial_damping = o.lm_initial_damping;
+  newton.nonmonotone_memory = o.nonmonotone_memory;
   newton.start = start;
   // Merit of the line search: |diag(weights) r|; the convergence test is always on the violation
   // |r| (velocity coordinates). Momentum weights measure the angular and linear velocity errors
@@ -493,6 +513,11 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
       return "re-running the accepted step: " + flow.failure_message(failed);
     }
   } sweeps{*flow};
+  // Homotopy: follow the Newton path to tau = 1, then Newton-Armijo's end game from there (also
+  // when the path following gives up: Newton-Armijo then continues from the last path point).
+  if (o.globalization == Globalization::Homotopy) {
+    newton_homotopy(sweeps, newton, lambda, current, S, o.homotopy_initial_step);
+  }
   newton_armijo_shooting(sweeps, newton, lambda, current, S);
   return result;
 }

@@ -97,9 +97,13 @@ Merit parse_merit(const std::string& name);
 /// (J^T J + mu diag(J^T J)) d = -J^T r on the merit's weighted residual, mu adapted from the ratio
 /// of actual to predicted reduction (Madsen, Nielsen, Tingleff 2004, sec. 3.2); it uses the full
 /// system (no symmetry decomposition: a rank-deficient J is regularized by the damping).
-enum class Globalization { NewtonArmijo, LevenbergMarquardt };
+/// Homotopy: Newton homotopy path following (newton_armijo.hpp, newton_homotopy) from the guess to
+/// tau = 1, then Newton-Armijo's end game; it follows the path the damped Newton iteration
+/// approximates, so it reaches Newton-Armijo's extremal with fewer Jacobians (lgvi/ocp/README.md).
+enum class Globalization { NewtonArmijo, LevenbergMarquardt, Homotopy };
 const char* to_string(Globalization g);
-/// Parses "newton-armijo" or "levenberg-marquardt"; throws InvalidInput("globalization", ...).
+/// Parses "newton-armijo", "levenberg-marquardt" or "homotopy"; throws
+/// InvalidInput("globalization", ...).
 Globalization parse_globalization(const std::string& name);
 
 struct ShootingOptions {
@@ -113,6 +117,13 @@ struct ShootingOptions {
   Globalization globalization = Globalization::NewtonArmijo;
   int max_iterations = 100;
   int max_backtracks = 30;     ///< step halvings (Levenberg-Marquardt: rejected steps) per outer iteration
+  /// Levenberg-Marquardt: the initial damping mu_0, relative to diag(J^T J) (> 0).
+  double lm_initial_damping = 1e-3;
+  /// Armijo test against the largest merit of the last this many accepted points (Grippo,
+  /// Lampariello, Lucidi 1986); 1: the classical monotone test.
+  int nonmonotone_memory = 1;
+  /// Homotopy: the first step in tau (doubled after easy corrections, halved after failed ones).
+  double homotopy_initial_step = 0.1;
   double armijo = 1e-4;        ///< sufficient decrease |r(l + t d)| <= (1 - armijo t) |r(l)|
   double tolerance = 1e-12;    ///< on the violation
   /// After reaching the tolerance, up to this many more full Newton steps, kept while they lower

@@ -16,6 +16,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <Eigen/SVD>
@@ -44,6 +45,9 @@ struct NewtonArmijoOptions {
   /// Levenberg-Marquardt steps on the weighted residual instead of Newton-Armijo (Globalization);
   /// max_backtracks then bounds the rejected steps per outer iteration.
   bool levenberg_marquardt = false;
+  double lm_initial_damping = 1e-3;  ///< mu_0 of Levenberg-Marquardt (relative to diag(J^T J))
+  /// Armijo test against the largest merit of this many last accepted points (1: monotone).
+  int nonmonotone_memory = 1;
   /// Merit of the line search |weights r| and the weighting of the Newton system (jacobian,
   /// residual and D alike); none: |r| and the unweighted system. The convergence test is always
   /// on the violation |r|.
@@ -53,6 +57,72 @@ struct NewtonArmijoOptions {
   /// Start of the solve: rec.seconds and summary.wall_seconds count from here.
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
+
+/// Newton homotopy (predictor-corrector path following; Allgower & Georg 1990, ch. 2): follows the
+/// zeros of H(lambda, tau) = r(lambda) - (1 - tau) r(lambda_start) from tau = 0 (lambda_start) to
+/// tau = 1, the path the damped Newton iteration approximates (its tangent is the Newton direction
+/// -J^{-1} r(lambda_start)), so it ends on Newton-Armijo's extremal but is not bound to Armijo's
+/// monotone decrease along straight lines. Predictor: the tangent step lambda - dtau J^{-1} r_start;
+/// corrector: full Newton steps on H (at most `max_corrector`, each must halve |H|; accepted when
+/// |H| <= corrector_tolerance |r_start|); a failed corrector halves dtau, an easy one (<= 2 steps)
+/// doubles it. Every Jacobian evaluation counts as an outer iteration, every rejected point as an
+/// inner one. Returns whether tau = 1 was reached; `lambda`, `current` are the last point on the
+/// path (the end game is Newton-Armijo from there).
+template <class Problem, class Evaluation, int N>
+bool newton_homotopy(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
+                     Evaluation& current, ShootingSummary& S, double initial_step = 0.1, int max_corrector = 4,
+                     double corrector_tolerance = 0.1) {
+  using Vec = Eigen::Matrix<double, N, 1>;
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - o.start).count(); };
+  const Vec r_start = current.residual;
+  double tau = 0.0, dtau = initial_step;
+  Evaluation point;
+  while (tau < 1.0) {
+    if (S.iterations >= o.max_iterations || dtau < 1e-6) return false;
+    const double next = std::min(1.0, tau + dtau);
+    IterationRecord rec;
+    rec.iteration = S.iterations;
+    rec.violation = current.residual.norm();
+    rec.cost = current.cost;
+    rec.cond_sensitivity = rec.cond_inverted = condition_number(current.jacobian);
+    Vec candidate = lambda - (next - tau) * current.jacobian.partialPivLu().solve(r_start);
+    rec.step_norm = (candidate - lambda).norm();
+    bool ok = false;
+    int corrector = 0;
+    double previous = std::numeric_limits<double>::infinity();
+    for (; corrector <= max_corrector; ++corrector) {
+      ++S.sweeps;
+      if (!candidate.allFinite() || !problem.evaluate(candidate, true, point)) break;
+      ++S.iterations;
+      const Vec H = point.residual - (1.0 - next) * r_start;
+      const double h = H.norm();
+      if (h <= corrector_tolerance * r_start.norm() || (next == 1.0 && h <= o.tolerance)) {
+        ok = true;
+        break;
+      }
+      if (!(h <= 0.5 * previous)) break;
+      previous = h;
+      candidate -= point.jacobian.partialPivLu().solve(H);
+    }
+    rec.sweeps = S.sweeps;
+    rec.seconds = seconds();
+    if (ok) {
+      lambda = candidate;
+      current = point;
+      tau = next;
+      rec.step_length = next;  // tau reached
+      rec.backtracks = corrector;
+      if (corrector <= 2) dtau *= 2.0;
+    } else {
+      ++S.inner_iterations;
+      rec.step_length = 0.0;
+      dtau *= 0.5;
+    }
+    S.history.push_back(rec);
+  }
+  return true;
+}
 
 /// Newton-Armijo iterations from `lambda` whose evaluation (with Jacobian, ok) is `current`;
 /// `summary.decomposition` selects the symmetry-decomposed Newton system. On return `lambda` is
@@ -85,6 +155,10 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
   Evaluation trial;
   double violation = current.residual.norm();
   double merit_value = merit(current.residual);
+  // Non-monotone reference (Grippo, Lampariello, Lucidi 1986): the largest merit of the last
+  // nonmonotone_memory accepted points; memory 1 is the classical Armijo test.
+  std::vector<double> recent_merits{merit_value};
+  auto reference_merit = [&] { return *std::max_element(recent_merits.begin(), recent_merits.end()); };
   S.cost = current.cost;
   S.violation = violation;
   S.cond_min = S.cond_full_min = std::numeric_limits<double>::infinity();
@@ -100,8 +174,8 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
   int polish_left = -1;  // -1: not polishing yet
   // Levenberg-Marquardt damping mu (relative to diag(J^T J), Marquardt's scaling, so invariant
   // under rescaling lambda_0's entries: the dumbbell's rod-axis inertia makes them differ by
-  // orders of magnitude) and its growth factor nu; mu_0 = 1e-3 (MNT's tau).
-  double lm_mu = 1e-3, lm_nu = 2.0;
+  // orders of magnitude) and its growth factor nu; mu_0 = lm_initial_damping (MNT's tau).
+  double lm_mu = o.lm_initial_damping, lm_nu = 2.0;
   for (int it = 0;; ++it) {
     IterationRecord rec;
     rec.iteration = it;
@@ -206,7 +280,7 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
       rec.backtracks = b;
       if (problem.evaluate(candidate, false, trial)) {
         const bool decrease = polishing ? trial.residual.norm() < violation
-                                        : merit(trial.residual) <= (1.0 - o.armijo * t) * merit_value;
+                                        : merit(trial.residual) <= (1.0 - o.armijo * t) * reference_merit();
         if (decrease) {
           lambda = candidate;
           accepted = true;
@@ -250,6 +324,8 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
     }
     violation = current.residual.norm();
     merit_value = merit(current.residual);
+    recent_merits.push_back(merit_value);
+    if (static_cast<int>(recent_merits.size()) > o.nonmonotone_memory) recent_merits.erase(recent_merits.begin());
     ++S.iterations;
     if (polishing) --polish_left;
     rec.seconds = seconds();

@@ -1,4 +1,4 @@
-// Continuous necessary conditions of the pendulum (baselines/pontryagin.hpp): the costate
+// Continuous necessary conditions of the pendulum and the dumbbell (baselines/pontryagin.hpp): the costate
 // equations against finite differences of the Hamiltonian, the analytic Jacobian of the
 // state-costate ODE, the shooting Jacobian (sensitivities vs differences), convergence on the
 // paper's transfer and agreement of the cost with the discrete optimum within its O(h^2)
@@ -309,6 +309,144 @@ TEST(Pontryagin, FailuresAreNamedStatuses) {
     o.integration.rtol = 1e-10;
     o.integration.max_steps = 0;
     EXPECT_EQ(baselines::solve_pontryagin(p, problem, o).summary.status, ShootingStatus::InvalidInput);
+  }
+}
+
+
+// --- the dumbbell -------------------------------------------------------------------------------
+
+using baselines::DumbbellPontryaginOde;
+using baselines::Vec12;
+
+Vec12 random12(std::mt19937_64& rng, double scale) {
+  Vec12 v;
+  v << random6(rng, scale), random6(rng, scale);
+  return v;
+}
+
+baselines::Mat6 random_spd6(std::mt19937_64& rng) {
+  Eigen::Matrix<double, 6, 6> A;
+  for (int i = 0; i < 6; ++i) A.col(i) = random6(rng, 0.5);
+  return A * A.transpose() + baselines::Mat6::Identity();
+}
+
+/// A configuration near the reference orbit (|x| ~ 1, the spheres well away from the centre).
+Vec3 orbit_position(std::mt19937_64& rng) {
+  const Vec3 d = random6(rng, 0.1).head<3>();
+  return Vec3(0.8, 0.5, 0.3) + d;
+}
+
+// The canonical equations against central differences of H (step kFdStep, tolerance kFdTolerance
+// relative, test_support.hpp): lambda_R' = lambda_R x Omega - dH/deta, lambda_x' = -dH/dx,
+// lambda_Pi' = -dH/dPi, lambda_p' = -dH/dp; the state equations [Omega; p/m; Pi'; p'] = dH/dlambda
+// (as the ODE evaluates them) and dH/du = 0 at the optimal control.
+TEST(DumbbellPontryagin, CostateEquationsMatchHamiltonianDerivatives) {
+  auto rng = make_rng(41);
+  const DumbbellSpacecraft d = DumbbellSpacecraft::paper();
+  const DumbbellPontryaginOde ode(d, random_spd6(rng));
+  for (int trial = 0; trial < 10; ++trial) {
+    const Mat3 R = so3::random_rotation(rng);
+    const Vec3 x = orbit_position(rng);
+    const Vec3 Pi = random6(rng, 0.05).head<3>();
+    const Vec3 p = random6(rng, 1.0).head<3>();
+    const Vec12 lambda = random12(rng, 1.0);
+    const Vec6 u = ode.control(lambda);
+    const double a = kFdStep;
+    Vec12 dH_w;  // [dH/deta; dH/dx; dH/dPi; dH/dp]
+    Vec12 dH_lambda;
+    Vec6 dH_u;
+    for (int i = 0; i < 3; ++i) {
+      const Vec3 e = a * Vec3::Unit(i);
+      dH_w(i) = (ode.hamiltonian(R * so3::exp(e), x, Pi, p, lambda, u) -
+                 ode.hamiltonian(R * so3::exp(-e), x, Pi, p, lambda, u)) / (2 * a);
+      dH_w(3 + i) = (ode.hamiltonian(R, x + e, Pi, p, lambda, u) - ode.hamiltonian(R, x - e, Pi, p, lambda, u)) / (2 * a);
+      dH_w(6 + i) = (ode.hamiltonian(R, x, Pi + e, p, lambda, u) - ode.hamiltonian(R, x, Pi - e, p, lambda, u)) / (2 * a);
+      dH_w(9 + i) = (ode.hamiltonian(R, x, Pi, p + e, lambda, u) - ode.hamiltonian(R, x, Pi, p - e, lambda, u)) / (2 * a);
+    }
+    for (int i = 0; i < 6; ++i) {
+      const Vec6 e = a * Vec6::Unit(i);
+      dH_u(i) = (ode.hamiltonian(R, x, Pi, p, lambda, u + e) - ode.hamiltonian(R, x, Pi, p, lambda, u - e)) / (2 * a);
+    }
+    for (int i = 0; i < 12; ++i) {
+      const Vec12 e = a * Vec12::Unit(i);
+      dH_lambda(i) = (ode.hamiltonian(R, x, Pi, p, lambda + e, u) - ode.hamiltonian(R, x, Pi, p, lambda - e, u)) / (2 * a);
+    }
+    const Vec3 Omega = d.inertia.J_inverse * Pi;
+    const Vec12 rate = ode.costate_rate(R, x, Pi, lambda);
+    Vec12 expected = -dH_w;
+    expected.head<3>() += lambda.head<3>().cross(Omega);
+    EXPECT_LT((rate - expected).norm(), kFdTolerance * (1.0 + expected.norm())) << "trial " << trial;
+    typename DumbbellPontryaginOde::State y;
+    y << baselines::QuaternionChart::from_rotation(R), x, Pi, p, lambda, 0.0;
+    typename DumbbellPontryaginOde::State ydot;
+    ode.rhs(0.0, y.data(), ydot.data());
+    Vec12 state_rate;
+    state_rate << Omega, ydot.segment<9>(DumbbellPontryaginOde::kX);
+    EXPECT_LT((dH_lambda - state_rate).norm(), kFdTolerance * (1.0 + state_rate.norm())) << "trial " << trial;
+    EXPECT_LT(dH_u.norm(), kFdTolerance * (1.0 + u.norm() + lambda.norm())) << "dH/du = 0 at the optimal control";
+    EXPECT_LT((ydot.segment<12>(DumbbellPontryaginOde::kLambda) - rate).norm(), roundoff(1.0 + rate.norm(), 64));
+  }
+}
+
+TEST(DumbbellPontryagin, OdeJacobianMatchesFiniteDifferences) {
+  auto rng = make_rng(42);
+  const DumbbellSpacecraft d = DumbbellSpacecraft::paper();
+  const DumbbellPontryaginOde ode(d, random_spd6(rng));
+  constexpr int n = DumbbellPontryaginOde::kDim;
+  for (int trial = 0; trial < 5; ++trial) {
+    typename DumbbellPontryaginOde::State y;
+    y << baselines::QuaternionChart::from_rotation(so3::random_rotation(rng)), orbit_position(rng),
+        random6(rng, 0.05).head<3>(), random6(rng, 1.0).head<3>(), random12(rng, 1.0), 0.3;
+    y.head<4>() *= 1.01;  // off the unit sphere, where the integrator's quaternion drifts
+    typename DumbbellPontryaginOde::Jacobian J;
+    ASSERT_EQ(ode.jacobian(0.0, y.data(), J.data()), baselines::RhsStatus::Ok);
+    typename DumbbellPontryaginOde::Jacobian fd;
+    for (int j = 0; j < n; ++j) {
+      typename DumbbellPontryaginOde::State yp = y, ym = y, fp, fm;
+      const double a = kFdStep * std::max(1.0, std::abs(y(j)));
+      yp(j) += a;
+      ym(j) -= a;
+      ode.rhs(0.0, yp.data(), fp.data());
+      ode.rhs(0.0, ym.data(), fm.data());
+      fd.col(j) = (fp - fm) / (2 * a);
+    }
+    EXPECT_LT((J - fd).norm(), kFdTolerance * fd.norm()) << "trial " << trial << "\nJ - fd =\n" << (J - fd);
+  }
+}
+
+// The continuous conditions are the limit of the discrete ones: from the same lambda(0), the
+// symmetric discrete sweep (lgvi/ocp/indirect.hpp, a second-order LGVI with trapezoidal node
+// controls) has terminal residual and Psi12 = dw_N/dlambda_0 within O(h^2) of the continuous r and
+// Psi: the error ratio per halving of h is 4, i.e. log2 = 2 +- kSensOrderTolerance. The continuous
+// reference at rtol 1e-12 (global error ~1e-9, test_support.hpp) is far below the discrete errors
+// (~1e-3..1e-4 relative at these h).
+TEST(DumbbellPontryagin, DiscreteSweepConvergesToTheContinuousOneAtSecondOrder) {
+  const DumbbellSpacecraft d = DumbbellSpacecraft::paper();
+  const TransferProblem problem = TransferProblem::dumbbell_paper();
+  baselines::SensitivitySettings s;
+  s.rtol = 1e-12;
+  const baselines::DumbbellShootingFunction fn(d, problem, {}, s);
+  // The shooting's guess, the uncontrolled motion (lambda = 0): r is O(1) and Psi the full stiff
+  // linearization (the rod-axis inertia 0.001 makes it grow like T^2 / J_11^2 ~ 1e6). A controlled
+  // lambda of the optimum's size (lambda_P ~ 0.05) spins the rod so fast that N = 50 is out of the
+  // asymptotic range and the CVODES reference takes seconds.
+  const Vec12 lambda = Vec12::Zero();
+  const auto c = fn.evaluate(lambda, true);
+  ASSERT_TRUE(c.ok) << c.message;
+  std::vector<double> e_psi, e_r;
+  for (const int steps : {100, 200, 400}) {
+    const ocp::StateMultiplierFlow<ocp::DumbbellModel> flow(d, problem, LgviForm::Symmetric,
+                                                           problem.t_final / steps, {});
+    ocp::StateMultiplierFlow<ocp::DumbbellModel>::Sweep sweep;
+    ASSERT_TRUE(flow.run(lambda, true, sweep));
+    e_psi.push_back((sweep.Psi12 - c.Psi).norm() / c.Psi.norm());
+    e_r.push_back((sweep.residual - c.residual).norm() / c.residual.norm());
+    std::cout << "[ measured ] N = " << steps << ": |Psi12 - Psi| / |Psi| = " << e_psi.back()
+              << ", |r_h - r| / |r| = " << e_r.back() << ", cost " << sweep.cost << " vs " << c.cost << "\n";
+  }
+  for (std::size_t i = 0; i + 1 < e_psi.size(); ++i) {
+    EXPECT_NEAR(std::log2(e_psi[i] / e_psi[i + 1]), 2.0, kSensOrderTolerance);
+    EXPECT_NEAR(std::log2(e_r[i] / e_r[i + 1]), 2.0, kSensOrderTolerance);
   }
 }
 
