@@ -286,13 +286,14 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
     const std::string system = cmd->get_option("SYSTEM")->as<std::string>();
     const bool direct = is_direct_system(system);
     for (const char* name : {"--knots", "--spline", "--gradients", "--tolerance", "--starts", "--solver", "--hessian",
-                             "--shooting-interval", "--seed", "--first-start"}) {
+                             "--state-guess", "--shooting-interval", "--seed", "--first-start"}) {
       if (!direct && cmd->count(name) > 0) {
         throw CLI::ValidationError(name, "applies to the direct method only (cart-pendulum, connected-bodies), not to " +
                                              system);
       }
     }
-    for (const char* name : {"--no-decomposition", "--merit", "--globalization", "--guess", "--sphere-radius"}) {
+    for (const char* name : {"--no-decomposition", "--merit", "--globalization", "--lm-damping", "--nonmonotone-memory", "--guess",
+                             "--sphere-radius"}) {
       if (direct && cmd->count(name) > 0) {
         throw CLI::ValidationError(name, "applies to the indirect method only (pendulum, dumbbell), not to " + system);
       }

@@ -271,7 +271,7 @@ ConnectedBodiesDirectModel::VecW ConnectedBodiesDirectModel::difference(const St
   return w;
 }
 
-ConnectedBodiesDirectModel::VecW ConnectedBodiesDirectModel::geodesic_difference(const Lgvi& lgvi, const State& a,
+ConnectedBodiesDirectModel::VecW ConnectedBodiesDirectModel::geodesic_difference(const Lgvi& /*lgvi*/, const State& a,
                                                                                  const State& b) {
   VecW d = difference(a, b);
   const Vec3 phi1 = d.segment<3>(0), phi2 = d.segment<3>(3);
