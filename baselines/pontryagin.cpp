@@ -32,6 +32,30 @@ Mat3 validated_weight(const Eigen::MatrixXd& W) {
   return W;
 }
 
+/// Central-difference shooting Jacobian dr/dlambda(0), column by column, into e.jacobian;
+/// e.stats gains the evaluations' work. Error a^2 |r'''| + (global error) / a, balanced at
+/// a = cbrt(rtol) (scaled by |lambda_i| >= 1). Returns false (e.ok false, e.message naming the
+/// column) when an evaluation fails. `evaluate(lambda, false)` is the shooting function.
+template <class Evaluation, class Vec, class Evaluate>
+bool central_difference_jacobian(const Vec& lambda0, double rtol, const Evaluate& evaluate, Evaluation& e) {
+  for (int i = 0; i < lambda0.size(); ++i) {
+    const double a = std::cbrt(rtol) * std::max(1.0, std::abs(lambda0(i)));
+    Vec plus = lambda0, minus = lambda0;
+    plus(i) += a;
+    minus(i) -= a;
+    const Evaluation ep = evaluate(plus, false), em = evaluate(minus, false);
+    e.stats.steps += ep.stats.steps + em.stats.steps;
+    e.stats.rhs_evaluations += ep.stats.rhs_evaluations + em.stats.rhs_evaluations;
+    if (!ep.ok || !em.ok) {
+      e.ok = false;
+      e.message = "finite-difference column " + std::to_string(i) + ": " + (ep.ok ? em.message : ep.message);
+      return false;
+    }
+    e.jacobian.col(i) = (ep.residual - em.residual) / (2.0 * a);
+  }
+  return true;
+}
+
 }  // namespace
 
 // --- the state-costate ODE -------------------------------------------------------------------
@@ -214,22 +238,8 @@ PontryaginEvaluation PendulumShootingFunction::evaluate(const Vec6& lambda0, boo
     e.Psi = T * run.S;
     e.jacobian = residual_jacobian(e.residual) * e.Psi;
   } else {
-    // Central differences: error a^2 |r'''| + (global error) / a, balanced at a = cbrt(rtol).
-    for (int i = 0; i < 6; ++i) {
-      const double a = std::cbrt(integration_.rtol) * std::max(1.0, std::abs(lambda0(i)));
-      Vec6 plus = lambda0, minus = lambda0;
-      plus(i) += a;
-      minus(i) -= a;
-      const PontryaginEvaluation ep = evaluate(plus, false), em = evaluate(minus, false);
-      e.stats.steps += ep.stats.steps + em.stats.steps;
-      e.stats.rhs_evaluations += ep.stats.rhs_evaluations + em.stats.rhs_evaluations;
-      if (!ep.ok || !em.ok) {
-        e.ok = false;
-        e.message = "finite-difference column " + std::to_string(i) + ": " + (ep.ok ? em.message : ep.message);
-        return e;
-      }
-      e.jacobian.col(i) = (ep.residual - em.residual) / (2.0 * a);
-    }
+    const auto shoot = [this](const Vec6& l, bool j) { return evaluate(l, j); };
+    if (!central_difference_jacobian(lambda0, integration_.rtol, shoot, e)) return e;
     e.Psi = residual_jacobian(e.residual).inverse() * e.jacobian;
   }
   if (!e.jacobian.allFinite()) {
@@ -443,21 +453,8 @@ DumbbellPontryaginEvaluation DumbbellShootingFunction::evaluate(const Vec12& lam
     e.Psi = T * run.S;
     e.jacobian = residual_jacobian(e.residual) * e.Psi;
   } else {
-    for (int i = 0; i < 12; ++i) {
-      const double a = std::cbrt(integration_.rtol) * std::max(1.0, std::abs(lambda0(i)));
-      Vec12 plus = lambda0, minus = lambda0;
-      plus(i) += a;
-      minus(i) -= a;
-      const DumbbellPontryaginEvaluation ep = evaluate(plus, false), em = evaluate(minus, false);
-      e.stats.steps += ep.stats.steps + em.stats.steps;
-      e.stats.rhs_evaluations += ep.stats.rhs_evaluations + em.stats.rhs_evaluations;
-      if (!ep.ok || !em.ok) {
-        e.ok = false;
-        e.message = "finite-difference column " + std::to_string(i) + ": " + (ep.ok ? em.message : ep.message);
-        return e;
-      }
-      e.jacobian.col(i) = (ep.residual - em.residual) / (2.0 * a);
-    }
+    const auto shoot = [this](const Vec12& l, bool j) { return evaluate(l, j); };
+    if (!central_difference_jacobian(lambda0, integration_.rtol, shoot, e)) return e;
     e.Psi = residual_jacobian(e.residual).inverse() * e.jacobian;
   }
   if (!e.jacobian.allFinite()) {
