@@ -86,6 +86,17 @@ std::string metadata_lines(const Fields& fields) {
   return text;
 }
 
+std::vector<std::string> split_csv_row(const std::string& line) {
+  std::vector<std::string> cells;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    cells.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) return cells;
+    start = comma + 1;
+  }
+}
+
 namespace {
 
 std::string header_line(const std::vector<std::string>& columns) {

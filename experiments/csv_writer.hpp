@@ -74,4 +74,8 @@ class CsvWriter {
 /// spaces.
 std::string metadata_lines(const Fields& fields);
 
+/// The cells of one row of a CSV the harness wrote (cells hold no commas: see csv_writer.cpp and
+/// suite.cpp's cell()).
+std::vector<std::string> split_csv_row(const std::string& line);
+
 }  // namespace lgvi::experiments

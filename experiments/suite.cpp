@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/atomic_file.hpp"
+#include "experiments/csv_writer.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/simulate.hpp"
 #include "experiments/suite_journal.hpp"
@@ -392,17 +393,6 @@ std::vector<double> expected_costs(const Suite& suite, const std::vector<std::si
 std::vector<SummaryRow> read_summary_csv(const fs::path& file) {
   std::ifstream in(file);
   if (!in) throw OutputError(file.string() + ": cannot read the suite summary");
-  const auto split = [](const std::string& line) {
-    std::vector<std::string> cells;
-    std::size_t start = 0;
-    while (true) {
-      const std::size_t comma = line.find(',', start);
-      cells.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
-    return cells;
-  };
   std::string line;
   bool more = static_cast<bool>(std::getline(in, line));
   std::size_t comment_lines = 0;  // the `# key: value` metadata before the header
@@ -413,11 +403,11 @@ std::vector<SummaryRow> read_summary_csv(const fs::path& file) {
   if (!more || line.rfind("index,", 0) != 0) {
     throw OutputError(file.string() + ": no header line 'index,...' (concatenate shard 0 first)");
   }
-  const std::vector<std::string> header = split(line);
+  const std::vector<std::string> header = split_csv_row(line);
   std::vector<SummaryRow> rows;
   for (std::size_t n = comment_lines + 2; std::getline(in, line); ++n) {
     if (line.empty()) continue;
-    const std::vector<std::string> cells = split(line);
+    const std::vector<std::string> cells = split_csv_row(line);
     if (cells.size() != header.size()) {
       throw OutputError(file.string() + ": line " + std::to_string(n) + " has " + std::to_string(cells.size()) +
                         " cells, the header " + std::to_string(header.size()));

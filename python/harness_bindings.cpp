@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "experiments/atomic_file.hpp"
+#include "experiments/csv_writer.hpp"
 #include "experiments/method.hpp"
 #include "experiments/ocp_command.hpp"
 #include "experiments/plot.hpp"
@@ -64,14 +65,7 @@ CsvTable read_csv(const fs::path& file) {
       if (colon != std::string::npos && colon > 2) table.metadata[line.substr(2, colon - 2)] = line.substr(colon + 2);
       continue;
     }
-    std::vector<std::string> cells;
-    std::size_t start = 0;
-    while (true) {
-      const std::size_t comma = line.find(',', start);
-      cells.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    std::vector<std::string> cells = ex::split_csv_row(line);
     if (table.columns.empty()) {
       table.columns = std::move(cells);
       continue;
