@@ -1,5 +1,6 @@
 // Scenes: a physical system with its parameters, initial state, horizon and optional control,
 // read from a TOML file (experiments/scenes/NAME.toml) and validated at this boundary.
+// The full format, every key of every system with units, default and range: experiments/scenes/README.md.
 //
 // File format (every key below is the complete list; any other key is an error):
 //
