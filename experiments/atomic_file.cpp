@@ -126,7 +126,11 @@ AtomicFile::~AtomicFile() {
 
 void AtomicFile::write(std::string_view text) {
   if (file_ == nullptr) throw OutputError(target().string() + ": write after commit");
-  std::fwrite(text.data(), 1, text.size(), file_);
+  // A short write (a full disk, a quota) ends the run at once, not at commit: a long run would
+  // otherwise go on computing rows that are lost.
+  if (std::fwrite(text.data(), 1, text.size(), file_) != text.size()) {
+    throw OutputError(system_error(target().string() + ": write error", errno));
+  }
 }
 
 void AtomicFile::flush() {

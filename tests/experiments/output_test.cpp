@@ -154,6 +154,20 @@ TEST(AtomicFile, DestroyedWithoutCommitLeavesNothing) {
   EXPECT_TRUE(dir.work_entries().empty());
 }
 
+TEST(AtomicFile, AFailedWriteThrowsAtOnceNotAtCommit) {
+  // /dev/full fails every write with ENOSPC, as a full disk does; a character device is written
+  // in place. A block larger than any stdio buffer reaches the device within write().
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this machine";
+  AtomicFile f("/dev/full");
+  const std::string block(std::size_t{1} << 20, 'x');
+  try {
+    f.write(block);
+    ADD_FAILURE() << "a write to /dev/full did not throw";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/full: write error"), std::string::npos) << e.what();
+  }
+}
+
 TEST(JsonSummary, OneObjectPerLineAndNullForNonFinite) {
   TempDir dir;
   const auto target = dir.work() / "summary.json";
