@@ -326,6 +326,19 @@ TEST(CliSimulate, UnwritableOutputExitsThreeAndLeavesNothing) {
   EXPECT_TRUE(dir.work_entries().empty());
 }
 
+// A run whose CSV cannot fit in the free space is refused before anything is written (10^12 steps
+// written every step: at least 10^12 rows, over a petabyte), in milliseconds.
+TEST(CliSimulate, ARunLargerThanTheFreeSpaceIsRefusedBeforeWriting) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"simulate", "pendulum", "--h", "1e-13", "--t-final", "0.1", "--every", "1",
+                                        "--out", "big.csv"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("big.csv: not enough space"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--every"), std::string::npos) << r.err;
+  EXPECT_TRUE(dir.work_entries().empty());
+}
+
 // --- scenes, help, suite -------------------------------------------------------------------------
 
 TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
