@@ -15,6 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_paths.hpp"
+
 namespace lgvi::test {
 
 namespace fs = std::filesystem;
@@ -92,7 +94,7 @@ inline std::string shell_quote(const std::string& s) {
 inline CliResult run_testbed(const TempDir& dir, const std::vector<std::string>& args) {
   // Appends only: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
   std::string cmd = "cd ";
-  cmd.append(shell_quote(dir.work().string())).append(" && ").append(shell_quote(LGVI_TESTBED_EXE));
+  cmd.append(shell_quote(dir.work().string())).append(" && ").append(shell_quote(testbed_exe()));
   for (const std::string& a : args) cmd.append(" ").append(shell_quote(a));
   const fs::path out = dir.capture() / "stdout";
   const fs::path err = dir.capture() / "stderr";
@@ -106,7 +108,7 @@ inline CliResult run_testbed(const TempDir& dir, const std::vector<std::string>&
 }
 
 inline fs::path default_scene_file(const std::string& name) {
-  return fs::path(LGVI_SOURCE_DIR) / "experiments" / "scenes" / (name + ".toml");
+  return fs::path(source_dir()) / "experiments" / "scenes" / (name + ".toml");
 }
 
 /// A scene file's text with the first occurrence of `from` outside comment lines replaced by

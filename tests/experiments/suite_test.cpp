@@ -367,7 +367,7 @@ TEST(SuiteAtomic, AKilledSuiteLeavesOnlyCompleteFiles) {
     const int null = ::open("/dev/null", O_WRONLY);
     dup2(null, 1);
     dup2(null, 2);
-    execl(LGVI_TESTBED_EXE, LGVI_TESTBED_EXE, "suite", "energy-drift", "--quick", "--no-plots", "--jobs", "2", "--out",
+    execl(testbed_exe(), testbed_exe(), "suite", "energy-drift", "--quick", "--no-plots", "--jobs", "2", "--out",
           out.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -422,7 +422,7 @@ struct ManifestText {
 
 /// Starts lgvi-testbed with `args` in dir.work(), output discarded; returns its pid.
 pid_t spawn_testbed(const TempDir& dir, const std::vector<std::string>& args) {
-  std::vector<std::string> a = {LGVI_TESTBED_EXE};
+  std::vector<std::string> a = {testbed_exe()};
   a.insert(a.end(), args.begin(), args.end());
   std::vector<char*> argv;
   for (std::string& s : a) argv.push_back(s.data());
