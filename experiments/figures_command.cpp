@@ -131,6 +131,7 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
     if (is_direct_system(system)) {
       args.push_back(gnuplot_path(require_file(ocp_output_file(data_dir, system, "knots.csv"))));
     }
+    verify_ocp_run(data_dir, system);  // the files above are one run's
     std::string png_name = "fig";
     png_name.append(std::to_string(number)).append("-").append(system).append(".png");
     const fs::path png = out_dir / png_name;

@@ -187,6 +187,7 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
       {"command_line", command_line},
   };
   f.insert(f.end(), rest.begin(), rest.end());
+  f.push_back({"run_id", files.run_id});
 
   write_history(history, S, f);
   if (!result.sweep.states.empty()) {

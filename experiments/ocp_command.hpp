@@ -4,6 +4,7 @@
 //   ocp-SYSTEM-history.csv     one row per outer Newton-Armijo iteration
 //   ocp-SYSTEM-trajectory.csv  t, state, controls, multipliers at every node
 //   ocp-SYSTEM-summary.json    cost, violation, iterations, condition numbers, wall time, status
+// Every file carries the run's `run_id`; the summary is written last (verify_ocp_run).
 #pragma once
 
 #include <filesystem>
@@ -64,6 +65,11 @@ bool is_direct_system(const std::string& system);
 /// "summary.json"; the direct method also "knots.csv"): dir/ocp-SYSTEM-what.
 std::filesystem::path ocp_output_file(const std::filesystem::path& dir, const std::string& system,
                                       const std::string& what);
+
+/// Checks that the ocp-SYSTEM-* files in `dir` are those of one complete run: the summary (written
+/// last) exists and each CSV present carries the summary's run_id. Throws OutputError naming the
+/// file and both runs otherwise (a run killed between its files; experiments/ocp_run_files.cpp).
+void verify_ocp_run(const std::filesystem::path& dir, const std::string& system);
 
 /// Runs it: solves, writes the three files, prints the summary line to `out`. Returns the exit
 /// status: 0 converged, 2 not converged (files written; the status says why), 1 bad input

@@ -193,6 +193,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
       {"command_line", command_line},
   };
   f.insert(f.end(), rest.begin(), rest.end());
+  f.push_back({"run_id", files.run_id});
 
   {
     CsvWriter csv(history, {"start", "evaluation", "iteration", "gradient", "cost", "violation", "seconds"});

@@ -48,9 +48,14 @@ inline std::string join(const Eigen::VectorXd& v) {
 /// v's entries as a JSON array of the summary (write_json_object).
 inline std::vector<double> values(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
+/// A new run id: time (ns since the epoch, hex), process id and 32 random bits. Every file of a
+/// run carries it (`run_id`), so that a reader can tell one run's files (verify_ocp_run).
+std::string new_run_id();
+
 /// The output directory of one run and the three files every `ocp` run writes in it
-/// (ocp_output_file names them).
+/// (ocp_output_file names them). The summary is written last: it marks the run complete.
 struct Files {
+  std::string run_id = new_run_id();  ///< recorded in every file of the run
   std::filesystem::path dir;         ///< --out
   std::filesystem::path history;     ///< ocp-SYSTEM-history.csv
   std::filesystem::path trajectory;  ///< ocp-SYSTEM-trajectory.csv

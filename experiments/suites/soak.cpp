@@ -1,5 +1,6 @@
 // The soak suite: each system's scene run by the symmetric LGVI for 10^7 steps (quick: 10^5),
-// reporting conservation (energy, momentum map, orthogonality) and the process's resident
+// its controls dropped (so that energy and momentum are conserved quantities), reporting
+// conservation (energy, momentum map, orthogonality) and the process's resident
 // memory over the run, so that a leak or a per-step allocation (which would grow the memory
 // with the steps: one byte a step is 10 MB at 10^7 steps) shows beside the conservation it
 // must not cost.
@@ -17,6 +18,7 @@
 #include "experiments/process_memory.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/suites/common.hpp"
+#include "experiments/system_bindings.hpp"
 
 namespace lgvi::experiments::suites {
 
@@ -120,6 +122,9 @@ Suite soak_suite(const SuiteParams& params) {
     spec.overrides.t_final = static_cast<double>(steps) * scene.horizon.h;
     spec.overrides.output_every = static_cast<std::int64_t>(std::max<std::size_t>(1, steps / kRowsPerCsv));
     spec.timed = true;
+    spec.edit = SceneEdit{"controls dropped", [](Scene& sc) {
+                            visit_binding(sc.model, [](auto binding, auto& m) { decltype(binding)::drop_controls(m); });
+                          }};
     SuiteCase c = simulate_case(scene_name + "-" + lgvi.id(), scene_name, spec, lgvi, Expectation::Complete);
     spec.method = lgvi.method;
     spec.options = lgvi.options();

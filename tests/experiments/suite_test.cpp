@@ -48,12 +48,17 @@ const std::vector<std::string> kSuites = {"energy-drift", "orthogonality", "mome
 
 // --- case lists ----------------------------------------------------------------------------------
 
-TEST(SuiteCases, EverySuiteHasUniqueIdsAndTheQuickFormIsASmallerList) {
+TEST(SuiteCases, EverySuiteHasUniqueIdsAndTheQuickFormIsASmallerOrShorterList) {
   for (const std::string& name : kSuites) {
     const Suite q = suite(name, true);
     const Suite f = suite(name, false);
     EXPECT_FALSE(q.cases.empty()) << name;
-    EXPECT_LT(q.cases.size(), f.cases.size()) << name;
+    // The soak suite's quick form is the same cases over fewer steps.
+    if (name == "soak") {
+      EXPECT_EQ(q.cases.size(), f.cases.size());
+    } else {
+      EXPECT_LT(q.cases.size(), f.cases.size()) << name;
+    }
     for (const Suite* s : {&q, &f}) {
       std::set<std::string> ids;
       for (const SuiteCase& c : s->cases) {
