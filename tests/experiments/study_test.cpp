@@ -1,7 +1,8 @@
 // Study files (experiments/study.hpp, experiments/studies/README.md) end to end: every kind of bad
 // input is one line naming the study file, the field and the reason with nothing written; a tiny
 // study lists its cases, runs them (one summary row per case, graded against the exact
-// solution at the order of the method), and its shards' union is the whole.
+// solution at the order of the method), and its shards' union is the whole; the shipped studies
+// load, and the work-precision and long-horizon suites are the shipped study files' cases.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -233,6 +234,62 @@ TEST(StudyRun, TheShardsUnionIsTheWholeStudy) {
     }
   }
   EXPECT_EQ(ran, kTinyCases);
+}
+
+// --- the shipped studies -------------------------------------------------------------------------
+
+std::vector<std::string> ids(const experiments::Suite& s) {
+  std::vector<std::string> v;
+  for (const auto& c : s.cases) v.push_back(c.id);
+  return v;
+}
+
+TEST(StudyShipped, EveryShippedStudyLoadsInBothForms) {
+  for (const auto& entry : fs::directory_iterator(experiments::default_studies_dir())) {
+    if (entry.path().extension() != ".toml") continue;
+    for (const bool quick : {true, false}) {
+      const experiments::Suite s =
+          experiments::load_study(entry.path(), {quick, experiments::default_scenes_dir()});
+      EXPECT_FALSE(s.cases.empty()) << entry.path();
+    }
+  }
+}
+
+TEST(StudyShipped, TheWorkPrecisionAndLongHorizonSuitesAreTheirStudyFiles) {
+  for (const char* name : {"work-precision", "long-horizon"}) {
+    for (const bool quick : {true, false}) {
+      const experiments::SuiteParams params{quick, experiments::default_scenes_dir()};
+      const experiments::Suite suite = experiments::make_suite(name, params);
+      const experiments::Suite study =
+          experiments::load_study(experiments::default_studies_dir() / (std::string(name) + ".toml"), params);
+      EXPECT_EQ(ids(suite), ids(study)) << name;
+      EXPECT_EQ(suite.columns, study.columns) << name;
+    }
+  }
+}
+
+TEST(StudyShipped, SpacecraftTumbleComparesTheLgviOrdersWithTheBaselinesAgainstTheExactSolution) {
+  const experiments::SuiteParams params{false, experiments::default_scenes_dir()};
+  const experiments::Suite s =
+      experiments::load_study(experiments::default_studies_dir() / "spacecraft-tumble.toml", params);
+  std::map<std::string, std::size_t> sweep;  // method label -> points
+  for (const auto& c : s.cases) {
+    const auto* job = dynamic_cast<const experiments::SimulateJob*>(c.job.get());
+    ASSERT_NE(job, nullptr);
+    EXPECT_EQ(*job->spec().overrides.t_final, 1e4) << c.id;
+    EXPECT_TRUE(job->spec().timed) << c.id;
+    for (const auto& f : c.labels) {
+      if (f.key == "label") ++sweep[std::get<std::string>(f.value)];
+    }
+  }
+  for (const char* m : {"LGVI order 2", "LGVI order 4 (yoshida4)", "LGVI order 6 (kahan-li6)", "cvode-bdf (quaternion)",
+                        "odeint-dopri5 (quaternion)", "gsl-rk8pd (quaternion)"}) {
+    EXPECT_GE(sweep[m], 4u) << m;
+  }
+  // The scene: J = diag(1200, 900, 600) kg m^2, spun about the intermediate axis, 10^4 s.
+  const experiments::Scene scene = experiments::load_scene(experiments::default_scenes_dir() / "spacecraft-tumble.toml");
+  EXPECT_EQ(scene.horizon.t_final, 1e4);
+  EXPECT_EQ(std::string(scene.system()), "free-body");
 }
 
 }  // namespace
