@@ -16,6 +16,7 @@
 
 #include "experiments/data_dir.hpp"
 #include "experiments/scene_reader.hpp"
+#include "experiments/toml_text.hpp"
 #include "experiments/system_bindings.hpp"
 #include "lgvi/so3.hpp"
 
@@ -470,14 +471,19 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every) {
   return horizon;
 }
 
+void check_toml_text(std::string_view text, const std::string& file, const std::string& kind) {
+  const Reader r(file);
+  if (text.size() > kMaxSceneBytes) {
+    r.fail("", "is larger than 1 MiB (more than " + std::to_string(kMaxSceneBytes) + " bytes); " + kind +
+                   " files take a few kB");
+  }
+  check_structure(text, r);
+}
+
 Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneOverrides& overrides) {
   const std::string file_name = file.string();
   const Reader r(file_name);
-  if (toml_text.size() > kMaxSceneBytes) {
-    r.fail("", "is larger than 1 MiB (more than " + std::to_string(kMaxSceneBytes) +
-                   " bytes); scene files take a few kB");
-  }
-  check_structure(toml_text, r);
+  check_toml_text(toml_text, file_name, "scene");
   toml::table doc;
   try {
     doc = toml::parse(toml_text, std::string_view(file_name));

@@ -346,10 +346,10 @@ TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
   const CliResult r = run_testbed(dir, {"scenes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  ASSERT_EQ(lines.size(), 7u) << r.out;
+  ASSERT_EQ(lines.size(), 8u) << r.out;
   const char* names[] = {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
-                         "pendulum-controlled"};
-  for (std::size_t i = 0; i < 7; ++i) {
+                         "pendulum-controlled", "spacecraft-tumble"};
+  for (std::size_t i = 0; i < 8; ++i) {
     EXPECT_EQ(lines[i].rfind(std::string(names[i]) + " ", 0), 0u) << lines[i];
     EXPECT_GT(lines[i].size(), 30u) << lines[i];
   }
@@ -374,7 +374,7 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   std::sort(files.begin(), files.end());
   std::vector<std::string> expected = {"summary.csv", "summary.jsonl", "suite-journal.jsonl", "suite-run.json"};
   for (const char* scene : {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
-                            "pendulum-controlled"}) {
+                            "pendulum-controlled", "spacecraft-tumble"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
       expected.push_back(scene + std::string(suffix));
     }
@@ -383,11 +383,11 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   EXPECT_EQ(files, expected);  // and no temporaries
 
   const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.jsonl"));
-  ASSERT_EQ(summary.size(), 14u);  // one JSON object per run
-  // The metadata lines ('#') state the units and what each error column is; then header + 14 rows.
+  ASSERT_EQ(summary.size(), 16u);  // one JSON object per run
+  // The metadata lines ('#') state the units and what each error column is; then header + 16 rows.
   const std::vector<std::string> csv = lines_of(read_text(dir.work() / "res" / "summary.csv"));
   const auto metadata_end = std::find_if(csv.begin(), csv.end(), [](const std::string& l) { return !l.starts_with("#"); });
-  EXPECT_EQ(csv.end() - metadata_end, 15);
+  EXPECT_EQ(csv.end() - metadata_end, 17);
   const std::string metadata = std::accumulate(csv.begin(), metadata_end, std::string());
   for (const char* line : {"# suite: default", "# form: full", "# units: ", "# errors: ",
                            "# columns.max_energy_error_relative: ", "# columns.max_energy_error_absolute: ",
@@ -397,7 +397,7 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   ASSERT_NE(metadata_end, csv.end());
   EXPECT_NE(metadata_end->find(",max_energy_error_relative,max_energy_error_absolute,"), std::string::npos)
       << *metadata_end;
-  for (std::size_t i = 0; i < 14; ++i) {
+  for (std::size_t i = 0; i < 16; ++i) {
     for (const char* key : {"\"scene\": ", "\"method\": \"lgvi\"", "\"form\": ", "\"status\": \"completed\"",
                             "\"newton_iterations\": ", "\"max_newton_iterations\": ", "\"wall_seconds\": ",
                             "\"potential_evaluations\": ", "\"max_energy_error\": ",
