@@ -8,8 +8,9 @@
 //               solver's documented guess (all ones), from zero, and from the discrete solution
 //               (continuous_costate_from_discrete); the dumbbell's from its discrete symmetric
 //               solution, with the comparison (cost, multipliers, violations) in the table;
-//   globalizations  the dumbbell's discrete shooting by Newton-Armijo, the Newton homotopy,
-//               Levenberg-Marquardt and the non-monotone momentum-merit Armijo test;
+//   globalizations  the dumbbell's discrete shooting by Newton-Armijo, the Newton homotopy, the
+//               continuation (Hermite predictor, Broyden corrector), Levenberg-Marquardt and the
+//               non-monotone momentum-merit Armijo test;
 //   direct      spline controls + SLSQP on the cart-pendulum transfer of section 4.1
 //               (lgvi/ocp/direct.hpp; one start from the default guess): its SQP iterates' history
 //               (no Newton matrix, so no condition numbers).
@@ -83,6 +84,7 @@ struct ShootingSpec {
     if (system == "pendulum") l += decomposition ? "; decomposed" : "; not decomposed";
     if (globalization == ocp::Globalization::LevenbergMarquardt) l += "; Levenberg-Marquardt";
     if (globalization == ocp::Globalization::Homotopy) l += "; Newton homotopy";
+    if (globalization == ocp::Globalization::Continuation) l += "; continuation";
     if (merit == ocp::Merit::Momentum) l += "; momentum merit";
     if (nonmonotone_memory > 1) l += "; non-monotone " + std::to_string(nonmonotone_memory);
     return l + "; from " + guess_name(guess);
@@ -100,6 +102,7 @@ struct ShootingSpec {
     if (system == "pendulum") i += decomposition ? "decomposed-" : "full-";
     if (globalization == ocp::Globalization::LevenbergMarquardt) i += "lm-";
     if (globalization == ocp::Globalization::Homotopy) i += "homotopy-";
+    if (globalization == ocp::Globalization::Continuation) i += "continuation-";
     if (merit == ocp::Merit::Momentum) i += "momentum-";
     if (nonmonotone_memory > 1) i += "nm" + std::to_string(nonmonotone_memory) + "-";
     return i + guess_name(guess);
@@ -203,12 +206,12 @@ class ShootingJob final : public Job {
         o.initial_costate = Eigen::VectorXd::Ones(n);
       } else if (spec_.guess == Guess::DiscreteSolution) {
         // The discrete solution of the same form and N: the pendulum from its documented guess, the
-        // dumbbell from zero by the Newton homotopy (Newton-Armijo's extremal, 1.3906 symmetric).
+        // dumbbell from zero by the continuation (Newton-Armijo's extremal, 1.3906 symmetric).
         ShootingSpec d = spec_;
         d.solver = Solver::Discrete;
         d.guess = dumbbell ? Guess::Zero : Guess::Ones;
         d.decomposition = true;
-        d.globalization = dumbbell ? ocp::Globalization::Homotopy : ocp::Globalization::NewtonArmijo;
+        d.globalization = dumbbell ? ocp::Globalization::Continuation : ocp::Globalization::NewtonArmijo;
         const ocp::ShootingOptions od = discrete_options(d, problem);
         start = dumbbell ? ocp::solve_indirect(DumbbellSpacecraft::paper(), problem, od).summary
                          : ocp::solve_indirect(Pendulum3D::paper(), problem, od).summary;
@@ -401,6 +404,8 @@ Suite shooting_suite(const SuiteParams& params) {
     add(d, Expectation::Either);
     d.globalization = ocp::Globalization::Homotopy;
     add(d, Expectation::Either);
+    d.globalization = ocp::Globalization::Continuation;
+    add(d, Expectation::Either);
     d.globalization = ocp::Globalization::LevenbergMarquardt;
     add(d, Expectation::Either);
     d.globalization = ocp::Globalization::NewtonArmijo;
@@ -411,7 +416,7 @@ Suite shooting_suite(const SuiteParams& params) {
       d.form = LgviForm::Symmetric;
       d.merit = ocp::Merit::Velocity;
       d.nonmonotone_memory = 1;
-      d.globalization = ocp::Globalization::Homotopy;
+      d.globalization = ocp::Globalization::Continuation;
       add(d, Expectation::Either);
     }
     ShootingSpec c;
