@@ -388,9 +388,9 @@ Suite shooting_suite(const SuiteParams& params) {
   // Dumbbell (no symmetry; lgvi/ocp/README.md). Discrete, printed form, from the uncontrolled
   // motion (zero multiplier): 100 steps by Newton-Armijo (0.4 s), and the command's default 1000
   // steps by the globalizations side by side: Newton-Armijo (the paper's, ~180 outer iterations,
-  // extremal 1.3909), the Newton homotopy (the same extremal, ~70), Levenberg-Marquardt (extremal
-  // 1.427, ~130) and the non-monotone Armijo test on the momentum merit (extremal 1.427, ~25; issue
-  // 17's <= 40). Continuous (CVODES, baselines/pontryagin.hpp): from the discrete symmetric N = 1000
+  // extremal 1.3909), the Newton homotopy (the same extremal, ~70), the continuation (the same
+  // extremal, ~35; issue 17's <= 40), Levenberg-Marquardt (extremal 1.427, ~130) and the
+  // non-monotone Armijo test on the momentum merit (extremal 1.427, ~25). Continuous (CVODES, baselines/pontryagin.hpp): from the discrete symmetric N = 1000
   // solution, compared with it (cost, multipliers, violations).
   {
     ShootingSpec d;
