@@ -238,7 +238,8 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   cmd->add_option("--merit", o.merit, "Line-search merit: velocity (default) | momentum")->capture_default_str();
   cmd->add_option("--globalization", o.globalization,
                   "Indirect method: newton-armijo (the paper's; default) | levenberg-marquardt | homotopy "
-                  "(Newton homotopy path following, then Newton-Armijo)")
+                  "(Newton homotopy path following, then Newton-Armijo) | continuation (the same path, Hermite "
+                  "predictor, Broyden corrector, Jacobians at path points only, then Newton-Armijo)")
       ->capture_default_str();
   cmd->add_option("--lm-damping", o.lm_damping, "Levenberg-Marquardt: initial damping mu_0 (relative to diag(J^T J))")
       ->capture_default_str();
@@ -268,7 +269,8 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
       ->capture_default_str();
   cmd->add_option("--hessian", o.hessian,
                   "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
-                  "constraint curvature left out)")
+                  "constraint curvature left out) | exact (Hessian of the Lagrangian by forward differences of its "
+                  "exact gradient, columns grouped by colour)")
       ->capture_default_str();
   cmd->add_option("--state-guess", o.state_guess,
                   "Direct method, --solver ipopt: initial states, geodesic (between the boundary states) | "
@@ -332,7 +334,7 @@ int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std:
     options.globalization = ocp::parse_globalization(cmd.globalization);
   } catch (const InvalidInput&) {
     throw InvalidInput("--globalization",
-                       "must be 'newton-armijo', 'levenberg-marquardt' or 'homotopy' (got '" +
+                       "must be 'newton-armijo', 'levenberg-marquardt', 'homotopy' or 'continuation' (got '" +
                            cmd.globalization + "')");
   }
   if (!(cmd.lm_damping > 0.0) || !std::isfinite(cmd.lm_damping)) throw InvalidInput("--lm-damping", "must be > 0");

@@ -27,7 +27,7 @@ struct OcpCommand {
   long long steps = 0;      ///< alternative to h: t_final / steps
   bool no_decomposition = false;
   std::string merit = "velocity";
-  std::string globalization = "newton-armijo";  ///< indirect: or "levenberg-marquardt", "homotopy"
+  std::string globalization = "newton-armijo";  ///< indirect: or "levenberg-marquardt", "homotopy", "continuation"
   double lm_damping = 1e-3;          ///< indirect, levenberg-marquardt: initial damping mu_0
   int nonmonotone_memory = 1;        ///< indirect: Armijo test against the max merit of this many points
   std::vector<double> guess;  ///< lambda_0; empty: the documented default
@@ -44,7 +44,7 @@ struct OcpCommand {
   long long seed = 1;                   ///< of the random starts
   int first_start = 0;                  ///< run starts first_start .. first_start + starts - 1
   std::string solver = "slsqp";         ///< or "ipopt" (multiple shooting; lgvi/ocp/README.md)
-  std::string hessian = "limited-memory";  ///< ipopt: or "cost"
+  std::string hessian = "limited-memory";  ///< ipopt: or "cost", "exact"
   std::string state_guess = "geodesic";  ///< ipopt: or "simulated" (initial shooting states)
   int shooting_interval = 0;            ///< ipopt: steps per shooting segment; 0: the default (40)
 };

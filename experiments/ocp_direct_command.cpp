@@ -294,7 +294,7 @@ int run_ocp_direct_command(const OcpCommand& cmd, const std::string& command_lin
   try {
     options.ipopt_hessian = ocp::parse_ipopt_hessian(cmd.hessian);
   } catch (const InvalidInput&) {
-    throw InvalidInput("--hessian", "must be 'limited-memory' or 'cost' (got '" + cmd.hessian + "')");
+    throw InvalidInput("--hessian", "must be 'limited-memory', 'cost' or 'exact' (got '" + cmd.hessian + "')");
   }
   try {
     options.state_guess = ocp::parse_shooting_state_guess(cmd.state_guess);

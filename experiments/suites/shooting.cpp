@@ -8,8 +8,9 @@
 //               solver's documented guess (all ones), from zero, and from the discrete solution
 //               (continuous_costate_from_discrete); the dumbbell's from its discrete symmetric
 //               solution, with the comparison (cost, multipliers, violations) in the table;
-//   globalizations  the dumbbell's discrete shooting by Newton-Armijo, the Newton homotopy,
-//               Levenberg-Marquardt and the non-monotone momentum-merit Armijo test;
+//   globalizations  the dumbbell's discrete shooting by Newton-Armijo, the Newton homotopy, the
+//               continuation (Hermite predictor, Broyden corrector), Levenberg-Marquardt and the
+//               non-monotone momentum-merit Armijo test;
 //   direct      spline controls + SLSQP on the cart-pendulum transfer of section 4.1
 //               (lgvi/ocp/direct.hpp; one start from the default guess): its SQP iterates' history
 //               (no Newton matrix, so no condition numbers).
@@ -83,6 +84,7 @@ struct ShootingSpec {
     if (system == "pendulum") l += decomposition ? "; decomposed" : "; not decomposed";
     if (globalization == ocp::Globalization::LevenbergMarquardt) l += "; Levenberg-Marquardt";
     if (globalization == ocp::Globalization::Homotopy) l += "; Newton homotopy";
+    if (globalization == ocp::Globalization::Continuation) l += "; continuation";
     if (merit == ocp::Merit::Momentum) l += "; momentum merit";
     if (nonmonotone_memory > 1) l += "; non-monotone " + std::to_string(nonmonotone_memory);
     return l + "; from " + guess_name(guess);
@@ -100,6 +102,7 @@ struct ShootingSpec {
     if (system == "pendulum") i += decomposition ? "decomposed-" : "full-";
     if (globalization == ocp::Globalization::LevenbergMarquardt) i += "lm-";
     if (globalization == ocp::Globalization::Homotopy) i += "homotopy-";
+    if (globalization == ocp::Globalization::Continuation) i += "continuation-";
     if (merit == ocp::Merit::Momentum) i += "momentum-";
     if (nonmonotone_memory > 1) i += "nm" + std::to_string(nonmonotone_memory) + "-";
     return i + guess_name(guess);
@@ -203,7 +206,8 @@ class ShootingJob final : public Job {
         o.initial_costate = Eigen::VectorXd::Ones(n);
       } else if (spec_.guess == Guess::DiscreteSolution) {
         // The discrete solution of the same form and N: the pendulum from its documented guess, the
-        // dumbbell from zero by the Newton homotopy (Newton-Armijo's extremal, 1.3906 symmetric).
+        // dumbbell from zero by the Newton homotopy (Newton-Armijo's extremal, 1.3906 symmetric; the
+        // continuation reaches the same extremal but stalls at 1.6e-12 on the symmetric form).
         ShootingSpec d = spec_;
         d.solver = Solver::Discrete;
         d.guess = dumbbell ? Guess::Zero : Guess::Ones;
@@ -385,9 +389,9 @@ Suite shooting_suite(const SuiteParams& params) {
   // Dumbbell (no symmetry; lgvi/ocp/README.md). Discrete, printed form, from the uncontrolled
   // motion (zero multiplier): 100 steps by Newton-Armijo (0.4 s), and the command's default 1000
   // steps by the globalizations side by side: Newton-Armijo (the paper's, ~180 outer iterations,
-  // extremal 1.3909), the Newton homotopy (the same extremal, ~70), Levenberg-Marquardt (extremal
-  // 1.427, ~130) and the non-monotone Armijo test on the momentum merit (extremal 1.427, ~25; issue
-  // 17's <= 40). Continuous (CVODES, baselines/pontryagin.hpp): from the discrete symmetric N = 1000
+  // extremal 1.3909), the Newton homotopy (the same extremal, ~70), the continuation (the same
+  // extremal, ~35; issue 17's <= 40), Levenberg-Marquardt (extremal 1.427, ~130) and the
+  // non-monotone Armijo test on the momentum merit (extremal 1.427, ~25). Continuous (CVODES, baselines/pontryagin.hpp): from the discrete symmetric N = 1000
   // solution, compared with it (cost, multipliers, violations).
   {
     ShootingSpec d;
@@ -401,6 +405,8 @@ Suite shooting_suite(const SuiteParams& params) {
     add(d, Expectation::Either);
     d.globalization = ocp::Globalization::Homotopy;
     add(d, Expectation::Either);
+    d.globalization = ocp::Globalization::Continuation;
+    add(d, Expectation::Either);
     d.globalization = ocp::Globalization::LevenbergMarquardt;
     add(d, Expectation::Either);
     d.globalization = ocp::Globalization::NewtonArmijo;
@@ -411,7 +417,7 @@ Suite shooting_suite(const SuiteParams& params) {
       d.form = LgviForm::Symmetric;
       d.merit = ocp::Merit::Velocity;
       d.nonmonotone_memory = 1;
-      d.globalization = ocp::Globalization::Homotopy;
+      d.globalization = ocp::Globalization::Continuation;
       add(d, Expectation::Either);
     }
     ShootingSpec c;
