@@ -11,7 +11,11 @@
 //   transfer(m, target, t_final)   the method's boundary-condition record (initial state = the
 //                                  scene's [initial])
 //   system(m)                      the physical system the solver takes
-//   violation_label                 axis label of the terminal violation (shooting suite)
+//   violation_label                axis label of the terminal violation (shooting suite)
+//   continuous                     a continuous (Pontryagin) shooting exists (baselines/pontryagin.hpp):
+//                                  solve_continuous(m, problem, options) and
+//                                  continuous_costate(lambda_0), the discrete multiplier on the
+//                                  continuous costate's coordinates
 //   direct only: state_columns(c), state_row(row, lgvi, s), energy(lgvi, s) of the trajectory
 //                CSV, violation_parts(r, fields), violation_norm, knot_layout (summary text)
 #pragma once
@@ -19,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "baselines/pontryagin.hpp"
 #include "experiments/fields.hpp"
 #include "experiments/scene.hpp"
 #include "lgvi/ocp/direct.hpp"
@@ -66,6 +71,14 @@ struct OcpBinding<PendulumModel> {
     return p;
   }
   static constexpr const char* violation_label = "|r| = |[log(R_f^T R(T)); Ω(T) - Ω_f]| [rad, rad/s]";
+  static constexpr bool continuous = true;
+  static baselines::ContinuousShootingResult solve_continuous(const PendulumModel& m, const ocp::TransferProblem& p,
+                                                              const baselines::ContinuousShootingOptions& o) {
+    return baselines::solve_pontryagin(m.system, p, o);
+  }
+  static Eigen::VectorXd continuous_costate(const Eigen::VectorXd& discrete) {
+    return baselines::continuous_costate_from_discrete(discrete);
+  }
 };
 
 /// The free rigid body with a body-frame control moment (a spacecraft slew): indirect shooting
@@ -87,6 +100,7 @@ struct OcpBinding<FreeBodyModel> {
     return p;
   }
   static constexpr const char* violation_label = "|r| = |[log(R_f^T R(T)); Ω(T) - Ω_f]| [rad, rad/s]";
+  static constexpr bool continuous = false;
 };
 
 /// The dumbbell spacecraft (section 3.1): indirect shooting on SE(3).
@@ -111,6 +125,14 @@ struct OcpBinding<DumbbellModel> {
     return p;
   }
   static constexpr const char* violation_label = "|r| [normalized: rad, length, rad/time, length/time]";
+  static constexpr bool continuous = true;
+  static baselines::DumbbellContinuousShootingResult solve_continuous(const DumbbellModel& m,
+                                                                      const ocp::TransferProblem& p,
+                                                                      const baselines::ContinuousShootingOptions& o) {
+    return baselines::solve_pontryagin(m.system, p, o);
+  }
+  /// The discrete lambda_0 is the continuous costate's coordinates already (the identity).
+  static Eigen::VectorXd continuous_costate(const Eigen::VectorXd& discrete) { return discrete; }
 };
 
 /// The pendulum on a cart (section 4.1): the direct method, controls the cart forces (u_x, u_y).
@@ -136,6 +158,7 @@ struct OcpBinding<CartPendulumModel> {
     return p;
   }
   static constexpr const char* violation_label = "|terminal constraints| [rad, m, rad/s, m/s]";
+  static constexpr bool continuous = false;
   static constexpr const char* violation_norm =
       "2-norm of [log(R_N^T R_f)^vee; q_N - q_f; Omega_N - Omega_f; qdot_N - qdot_f]";
   static constexpr const char* knot_layout = "u_x at the knots, then u_y";
@@ -189,6 +212,7 @@ struct OcpBinding<ConnectedBodiesModel> {
     return p;
   }
   static constexpr const char* violation_label = "|terminal constraints| [rad, rad/s]";
+  static constexpr bool continuous = false;
   static constexpr const char* violation_norm =
       "2-norm of [log(R1_N^T R1_f)^vee; log(R2_N^T R2_f)^vee; Omega1_N - Omega1_f; "
       "Omega2_N - Omega2_f] (Omega2 not among the SLSQP constraints)";
