@@ -15,6 +15,7 @@
 #include <toml++/toml.h>
 
 #include "experiments/data_dir.hpp"
+#include "experiments/ocp_scene.hpp"
 #include "experiments/scene_reader.hpp"
 #include "experiments/toml_text.hpp"
 #include "experiments/system_bindings.hpp"
@@ -408,6 +409,58 @@ Mat3 SceneReader::inertia(const SceneTable& t, std::string_view key) const {
   return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::inertia);
 }
 
+bool SceneReader::has(const SceneTable& t, std::string_view key) const {
+  return SceneTableAccess::get(t).get(key) != nullptr;
+}
+std::string SceneReader::string(const SceneTable& t, std::string_view key) const {
+  return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::string);
+}
+std::int64_t SceneReader::integer(const SceneTable& t, std::string_view key) const {
+  return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::integer);
+}
+bool SceneReader::boolean(const SceneTable& t, std::string_view key) const {
+  const Reader r(file_);
+  const toml::node& n = r.required(SceneTableAccess::get(t), key, t.path());
+  const auto* b = n.as_boolean();
+  if (b == nullptr) r.fail(join_key(t.path(), key), std::string("must be true or false (got ") + describe(n) + ")");
+  return b->get();
+}
+Eigen::VectorXd SceneReader::vector(const SceneTable& t, std::string_view key, int n) const {
+  const Reader r(file_);
+  const std::string field = join_key(t.path(), key);
+  const toml::node& node = r.required(SceneTableAccess::get(t), key, t.path());
+  const toml::array* a = node.as_array();
+  if (a == nullptr || a->size() != static_cast<std::size_t>(n)) {
+    r.fail(field, "must be an array of " + std::to_string(n) + " numbers (got " + describe(node) + ")");
+  }
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v(i) = r.number(*a->get(i), field + "[" + std::to_string(i) + "]");
+  return v;
+}
+Eigen::MatrixXd SceneReader::matrix(const SceneTable& t, std::string_view key, int n) const {
+  const Reader r(file_);
+  const std::string field = join_key(t.path(), key);
+  const toml::node& node = r.required(SceneTableAccess::get(t), key, t.path());
+  const std::string shape = std::to_string(n) + "x" + std::to_string(n);
+  const toml::array* a = node.as_array();
+  if (a == nullptr || a->size() != static_cast<std::size_t>(n)) {
+    r.fail(field, "must be a " + shape + " array of arrays (" + std::to_string(n) + " rows of " + std::to_string(n) +
+                      " numbers; got " + describe(node) + ")");
+  }
+  Eigen::MatrixXd m(n, n);
+  for (int i = 0; i < n; ++i) {
+    const toml::node& row = *a->get(i);
+    const toml::array* ra = row.as_array();
+    if (ra == nullptr || ra->size() != static_cast<std::size_t>(n)) {
+      r.fail(field, "must be a " + shape + " array of arrays (row " + std::to_string(i) + " is " + describe(row) + ")");
+    }
+    for (int j = 0; j < n; ++j) {
+      m(i, j) = r.number(*ra->get(j), field + "[" + std::to_string(i) + "][" + std::to_string(j) + "]");
+    }
+  }
+  return m;
+}
+
 Mat3 SceneReader::attitude(const SceneTable& t, std::string_view key) const {
   const toml::node* n = SceneTableAccess::get(t).get(key);
   return n == nullptr ? Mat3::Identity() : Reader(file_).mat3(*n, join_key(t.path(), key));
@@ -494,7 +547,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   }
 
   // Unknown keys first, everywhere: a misspelt key is the likeliest cause of a missing one.
-  r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control"});
+  r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control", "ocp"});
   const std::string system = r.required(doc, "system", "", &Reader::string);
   std::string known;
   bool is_known = false;
@@ -509,6 +562,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   const toml::table* initial = r.table(doc, "initial", "", true);
   const toml::table* integration = r.table(doc, "integration", "", true);
   const toml::table* control = r.table(doc, "control", "", false);
+  const toml::table* ocp = r.table(doc, "ocp", "", false);
 
   // The system's tables, read by its binding (keys first, everywhere).
   const SceneReader reader(file_name);
@@ -518,7 +572,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
               read_model(reader, system, SceneTableAccess::make(*parameters, "parameters"),
                          SceneTableAccess::make(*initial, "initial"), SceneTableAccess::make(*integration, "integration"),
                          control_table),
-              Horizon{}, LgviForm::Symmetric};
+              Horizon{}, LgviForm::Symmetric, nullptr};
   if (const toml::node* d = doc.get("description")) scene.description = r.string(*d, "description");
 
   // [integration], with the command-line overrides named in messages.
@@ -546,6 +600,10 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
     for (std::size_t i = 0; i < notes.size(); ++i) field += (i == 0 ? " (" : ", ") + notes[i];
     if (!notes.empty()) field += ")";
     r.fail(field, reason_of(e));
+  }
+  if (ocp != nullptr) {
+    scene.ocp = read_ocp_table(reader, scene.model, SceneTableAccess::make(*parameters, "parameters"),
+                               SceneTableAccess::make(*ocp, "ocp"));
   }
   return scene;
 }

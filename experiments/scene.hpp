@@ -34,6 +34,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -169,6 +170,8 @@ struct Horizon {
 /// "output_every".
 Horizon make_horizon(double h, double t_final, std::int64_t output_every);
 
+struct OcpDefinition;  // experiments/ocp_scene.hpp
+
 struct Scene {
   std::string name;            ///< the file's stem: "pendulum" for .../pendulum.toml
   std::filesystem::path file;  ///< as given to load_scene
@@ -176,6 +179,8 @@ struct Scene {
   Model model;
   Horizon horizon;
   LgviForm form = LgviForm::Symmetric;
+  /// The [ocp] table (the optimal control problem), null when the scene has none.
+  std::shared_ptr<const OcpDefinition> ocp;
 
   const char* system() const { return system_name(model); }
 };

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <cmath>
 #include <initializer_list>
 #include <optional>
@@ -57,6 +58,17 @@ class SceneReader {
   Vec3 vec3(const SceneTable& t, std::string_view key) const;
   /// Principal moments [J1, J2, J3] (J = diag) or the full 3x3 matrix (rows).
   Mat3 inertia(const SceneTable& t, std::string_view key) const;
+
+  // Further typed values (the [ocp] table, experiments/ocp_scene.cpp). has() says whether `key`
+  // is present; the readers require it.
+  bool has(const SceneTable& t, std::string_view key) const;
+  std::string string(const SceneTable& t, std::string_view key) const;
+  std::int64_t integer(const SceneTable& t, std::string_view key) const;
+  bool boolean(const SceneTable& t, std::string_view key) const;
+  /// An array of exactly n numbers.
+  Eigen::VectorXd vector(const SceneTable& t, std::string_view key, int n) const;
+  /// An n x n matrix written as an array of its n rows.
+  Eigen::MatrixXd matrix(const SceneTable& t, std::string_view key, int n) const;
 
   /// The attitude `key` of t (body to inertial): a 3x3 array of rows, identity when absent; its
   /// orthonormality is checked by the flow's make_state (validate_initial_state).

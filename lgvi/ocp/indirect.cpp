@@ -389,6 +389,7 @@ bool StateMultiplierFlow<Model>::simulate(const std::vector<VecU>& controls, Swe
 
 template class StateMultiplierFlow<PendulumModel>;
 template class StateMultiplierFlow<DumbbellModel>;
+template class StateMultiplierFlow<FreeBodyModel>;
 
 // --- Newton-Armijo shooting ----------------------------------------------------------------
 
@@ -545,6 +546,11 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
 ShootingResult<PendulumModel> solve_indirect(const Pendulum3D& system, const TransferProblem& problem,
                                              const ShootingOptions& options) {
   return shoot<PendulumModel>(system, problem, options);
+}
+
+ShootingResult<FreeBodyModel> solve_indirect(const FreeRigidBody& system, const TransferProblem& problem,
+                                             const ShootingOptions& options) {
+  return shoot<FreeBodyModel>(system, problem, options);
 }
 
 ShootingResult<DumbbellModel> solve_indirect(const DumbbellSpacecraft& system,

@@ -288,7 +288,12 @@ ShootingResult<PendulumModel> solve_indirect(const Pendulum3D& system, const Tra
 ShootingResult<DumbbellModel> solve_indirect(const DumbbellSpacecraft& system,
                                              const TransferProblem& problem, const ShootingOptions& options);
 
+/// The free body's rest-to-rest (or any) attitude transfer with a body-frame control moment.
+ShootingResult<FreeBodyModel> solve_indirect(const FreeRigidBody& system, const TransferProblem& problem,
+                                             const ShootingOptions& options);
+
 extern template class StateMultiplierFlow<PendulumModel>;
+extern template class StateMultiplierFlow<FreeBodyModel>;
 extern template class StateMultiplierFlow<DumbbellModel>;
 
 }  // namespace lgvi::ocp

@@ -27,8 +27,9 @@ SceneError scene_error(const std::string& text, const SceneOverrides& overrides 
 TEST(DefaultScenes, AllLoadAndKeepTheirCsvSmall) {
   const std::vector<std::string> names = scene_names(default_scenes_dir());
   EXPECT_EQ(names, (std::vector<std::string>{"cart-pendulum", "connected-bodies", "dumbbell", "free-body",
-                                             "lagrange-top", "pendulum", "pendulum-controlled",
-                                             "spacecraft-tumble"}));
+                                             "lagrange-top", "ocp-cart-pendulum", "ocp-connected-bodies",
+                                             "ocp-dumbbell", "ocp-free-body-slew", "ocp-pendulum", "pendulum",
+                                             "pendulum-controlled", "spacecraft-tumble"}));
   for (const std::string& name : names) {
     const Scene s = load_scene(default_scene_file(name));
     EXPECT_EQ(s.name, name);
