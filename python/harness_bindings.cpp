@@ -470,7 +470,7 @@ py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
     throw py::value_error(message);
   }
   const fs::path dir = cmd.out;
-  ex::verify_ocp_run(dir, system);
+  ex::verify_ocp_run(dir, label);
   py::dict result;
   result["summary"] = json_loads(read_text(ex::ocp_output_file(dir, label, "summary.json")));
   const fs::path trajectory = ex::ocp_output_file(dir, label, "trajectory.csv");

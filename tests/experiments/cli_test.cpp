@@ -346,10 +346,13 @@ TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
   const CliResult r = run_testbed(dir, {"scenes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  ASSERT_EQ(lines.size(), 8u) << r.out;
-  const char* names[] = {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
-                         "pendulum-controlled", "spacecraft-tumble"};
-  for (std::size_t i = 0; i < 8; ++i) {
+  const std::vector<std::string> names = {"cart-pendulum",        "connected-bodies",   "dumbbell",
+                                          "free-body",            "lagrange-top",       "ocp-cart-pendulum",
+                                          "ocp-connected-bodies", "ocp-dumbbell",       "ocp-free-body-slew",
+                                          "ocp-pendulum",         "pendulum",           "pendulum-controlled",
+                                          "spacecraft-tumble"};
+  ASSERT_EQ(lines.size(), names.size()) << r.out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
     EXPECT_EQ(lines[i].rfind(std::string(names[i]) + " ", 0), 0u) << lines[i];
     EXPECT_GT(lines[i].size(), 30u) << lines[i];
   }
