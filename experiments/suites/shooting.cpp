@@ -204,20 +204,6 @@ class ShootingJob final : public Job {
     if (spec_.steps == 0 || !(spec_.rtol > 0.0)) throw InvalidInput("shooting", "steps and rtol must be positive");
   }
 
-  JobResult run(const JobContext& ctx) const override {
-    const Scene scene = example_scene(spec_.system);
-    return visit_binding(scene.model, [&](auto, const auto& m) -> JobResult {
-      using B = OcpBinding<std::decay_t<decltype(m)>>;
-      if constexpr (B::direct) {
-        return run_direct<B>(ctx, scene, m);
-      } else if constexpr (B::indirect) {
-        return run_indirect<B>(ctx, scene, m);
-      } else {
-        throw InvalidInput("system", "'" + spec_.system + "' has no optimal control method");
-      }
-    });
-  }
-
  private:
   template <class B, class M>
   JobResult run_indirect(const JobContext& ctx, const Scene& scene, const M& m) const {
@@ -368,6 +354,23 @@ class ShootingJob final : public Job {
   }
 
   ShootingSpec spec_;
+
+ public:
+  // Defined after the member templates it calls: clang 14 does not instantiate member templates
+  // first used in a generic lambda ahead of their definition (an undefined reference at link).
+  JobResult run(const JobContext& ctx) const override {
+    const Scene scene = example_scene(spec_.system);
+    return visit_binding(scene.model, [&](auto, const auto& m) -> JobResult {
+      using B = OcpBinding<std::decay_t<decltype(m)>>;
+      if constexpr (B::direct) {
+        return run_direct<B>(ctx, scene, m);
+      } else if constexpr (B::indirect) {
+        return run_indirect<B>(ctx, scene, m);
+      } else {
+        throw InvalidInput("system", "'" + spec_.system + "' has no optimal control method");
+      }
+    });
+  }
 };
 
 }  // namespace
