@@ -533,26 +533,36 @@ void check_options(const ContinuousShootingOptions& o, int n) {
 
 // --- Newton-Armijo shooting ------------------------------------------------------------------
 
-ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::TransferProblem& problem,
-                                          const ContinuousShootingOptions& o) {
+namespace {
+
+/// The continuous shooting of either system: summary fields, the violation tolerance (default
+/// kViolationPerRtol rtol), the shooting function's construction and the options' validation
+/// (InvalidInput becomes the status), the initial costate (zero unless given), the first
+/// integration with its Jacobian, then Newton-Armijo. `configure` adds the system's Newton
+/// settings (the pendulum's symmetry direction).
+template <class Fn, class Result, int N, class System, class Configure>
+Result continuous_shooting(const System& system, const ocp::TransferProblem& problem, const ContinuousShootingOptions& o,
+                           const char* name, bool decomposition, Configure configure) {
+  using Vec = Eigen::Matrix<double, N, 1>;
+  using Mat = Eigen::Matrix<double, N, N>;
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  ContinuousShootingResult result;
+  Result result;
   ocp::ShootingSummary& S = result.summary;
-  S.system = "pendulum (continuous)";
+  S.system = name;
   S.h = 0.0;
-  S.decomposition = o.decomposition;
+  S.decomposition = decomposition;
   result.rtol = o.integration.rtol;
   result.jacobian = o.jacobian;
   const double tolerance = o.tolerance > 0.0 ? o.tolerance : kViolationPerRtol * o.integration.rtol;
   result.tolerance = tolerance;
 
-  std::unique_ptr<PendulumShootingFunction> fn;
-  Vec6 lambda = Vec6::Zero();
+  std::unique_ptr<Fn> fn;
+  Vec lambda = Vec::Zero();
   try {
-    fn = std::make_unique<PendulumShootingFunction>(system, problem, o.W, o.integration);
-    check_options(o, 6);
+    fn = std::make_unique<Fn>(system, problem, o.W, o.integration);
+    check_options(o, N);
     if (o.initial_costate.size() != 0) lambda = o.initial_costate;
   } catch (const InvalidInput& e) {
     S.status = ocp::ShootingStatus::InvalidInput;
@@ -563,9 +573,8 @@ ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::T
   S.multiplier_guess = lambda;
   S.multiplier = lambda;
 
-  Integrations<PendulumShootingFunction, ContinuousShootingResult, Vec6, Mat6> integrations{*fn, o, result, {}};
-
-  PontryaginEvaluation current = integrations.evaluate(lambda, true);
+  Integrations<Fn, Result, Vec, Mat> integrations{*fn, o, result, {}};
+  auto current = integrations.evaluate(lambda, true);
   S.sweeps = 1;
   if (!current.ok) {
     S.status = ocp::ShootingStatus::SweepFailed;
@@ -574,78 +583,37 @@ ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::T
     result.final = current;
     return result;
   }
-  ocp::NewtonArmijoOptions<6> newton;
+  ocp::NewtonArmijoOptions<N> newton;
   newton.max_iterations = o.max_iterations;
   newton.max_backtracks = o.max_backtracks;
   newton.armijo = o.armijo;
   newton.tolerance = tolerance;
   newton.polish_iterations = o.polish_iterations;
   newton.start = start;
-  if (o.decomposition) {
-    const Vec3 Pi0 = system.inertia.J * problem.Omega0;
-    newton.initial_conserved_gradient = Pendulum3D::vertical_momentum_gradient(problem.R0, Pi0);
-  }
+  configure(newton);
   ocp::newton_armijo_shooting(integrations, newton, lambda, current, S);
   S.steps = current.stats.steps;
   result.final = current;
   return result;
 }
 
-}  // namespace lgvi::baselines
+}  // namespace
 
-namespace lgvi::baselines {
+ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::TransferProblem& problem,
+                                          const ContinuousShootingOptions& o) {
+  return continuous_shooting<PendulumShootingFunction, ContinuousShootingResult, 6>(
+      system, problem, o, "pendulum (continuous)", o.decomposition, [&](ocp::NewtonArmijoOptions<6>& newton) {
+        if (!o.decomposition) return;
+        const Vec3 Pi0 = system.inertia.J * problem.Omega0;
+        newton.initial_conserved_gradient = Pendulum3D::vertical_momentum_gradient(problem.R0, Pi0);
+      });
+}
 
 DumbbellContinuousShootingResult solve_pontryagin(const DumbbellSpacecraft& system,
                                                   const ocp::TransferProblem& problem,
                                                   const ContinuousShootingOptions& o) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-  DumbbellContinuousShootingResult result;
-  ocp::ShootingSummary& S = result.summary;
-  S.system = "dumbbell (continuous)";
-  S.h = 0.0;
-  S.decomposition = false;
-  result.rtol = o.integration.rtol;
-  result.jacobian = o.jacobian;
-  const double tolerance = o.tolerance > 0.0 ? o.tolerance : kViolationPerRtol * o.integration.rtol;
-  result.tolerance = tolerance;
-  std::unique_ptr<DumbbellShootingFunction> fn;
-  Vec12 lambda = Vec12::Zero();
-  try {
-    fn = std::make_unique<DumbbellShootingFunction>(system, problem, o.W, o.integration);
-    check_options(o, 12);
-    if (o.initial_costate.size() != 0) lambda = o.initial_costate;
-  } catch (const InvalidInput& e) {
-    S.status = ocp::ShootingStatus::InvalidInput;
-    S.message = e.what();
-    S.wall_seconds = seconds();
-    return result;
-  }
-  S.multiplier_guess = lambda;
-  S.multiplier = lambda;
-  Integrations<DumbbellShootingFunction, DumbbellContinuousShootingResult, Vec12, Mat12> integrations{
-      *fn, o, result, {}};
-  DumbbellPontryaginEvaluation current = integrations.evaluate(lambda, true);
-  S.sweeps = 1;
-  if (!current.ok) {
-    S.status = ocp::ShootingStatus::SweepFailed;
-    S.message = "the initial costate guess: " + current.message;
-    S.wall_seconds = seconds();
-    result.final = current;
-    return result;
-  }
-  ocp::NewtonArmijoOptions<12> newton;
-  newton.max_iterations = o.max_iterations;
-  newton.max_backtracks = o.max_backtracks;
-  newton.armijo = o.armijo;
-  newton.tolerance = tolerance;
-  newton.polish_iterations = o.polish_iterations;
-  newton.start = start;
-  ocp::newton_armijo_shooting(integrations, newton, lambda, current, S);
-  S.steps = current.stats.steps;
-  result.final = current;
-  return result;
+  return continuous_shooting<DumbbellShootingFunction, DumbbellContinuousShootingResult, 12>(
+      system, problem, o, "dumbbell (continuous)", false, [](ocp::NewtonArmijoOptions<12>&) {});
 }
 
 }  // namespace lgvi::baselines

@@ -16,6 +16,7 @@
 #include "experiments/plot.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/simulate.hpp"
+#include "experiments/study.hpp"
 #include "experiments/suite.hpp"
 #include "experiments/validate.hpp"
 
@@ -146,6 +147,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     bool quick = false;
     bool list_cases = false;
     bool render_only = false;
+    bool resume = false;
     std::string shard_text = "0/1";
     unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
     std::string suite_help = "Suite name:";
@@ -161,7 +163,6 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     suite_cmd->add_option("--jobs", jobs, "Cases run in parallel (default: hardware threads)")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
-    bool resume = false;
     suite_cmd->add_flag("--resume", resume,
                         "Continue the run in OUT (interrupted, killed): keep the finished cases whose files "
                         "verify, run the rest; the same suite, --quick, --shard and version only");
@@ -174,6 +175,30 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     suite_cmd->add_option("--check-against", check_against,
                           "After the run, compare OUT/summary.jsonl with DIR/summary.jsonl (an accepted run of the "
                           "same suite and form) per case and metric, timings ignored; exit 4 if a metric regressed");
+
+    // `study FILE`: a study file's cases run by the same harness, with the suite's run options.
+    CLI::App* study_cmd = app.add_subcommand(
+        "study", "Run a study file (scenes x methods x steps or tolerances x horizons; experiments/studies/README.md) "
+                 "like a suite: CSV per case, summary.csv/.jsonl, figures, tables");
+    std::string study_file;
+    study_cmd->add_option("FILE", study_file,
+                          "Study file (TOML), e.g. experiments/studies/spacecraft-tumble.toml")
+        ->required();
+    study_cmd->add_flag("--quick", quick, "Apply the study's [quick] table (a small version)");
+    study_cmd->add_option("--out", suite_out, "Output directory (default: results/NAME, NAME the study's name)");
+    study_cmd->add_flag("--list", list_cases, "Print the case ids (of the shard) and exit");
+    study_cmd->add_option("--shard", shard_text,
+                          "Run the i-th of N contiguous blocks of cases (0 <= i < N); no figures; "
+                          "summaries of shards 0..N-1 concatenate ('merge' joins them)")
+        ->capture_default_str();
+    study_cmd->add_option("--jobs", jobs, "Cases run in parallel (default: hardware threads)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    study_cmd->add_flag("--resume", resume, "Continue the run in OUT: keep the finished cases whose files verify");
+    study_cmd->add_flag("--render-only", render_only, "Only draw the figures and tables from OUT/summary.csv");
+    study_cmd->add_flag("--no-plots", no_plots, "Skip the gnuplot figures and tables");
+    study_cmd->add_option("--plots-dir", plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
+    study_cmd->add_option("--gnuplot", gnuplot, "gnuplot executable")->capture_default_str();
 
     CLI::App* validate_cmd = app.add_subcommand(
         "validate", "Regression gate: compute the accuracy metrics and compare them with the accepted values");
@@ -295,9 +320,13 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       return kExitOk;
     }
 
-    if (suite_cmd->parsed()) {
+    if (suite_cmd->parsed() || study_cmd->parsed()) {
       const Shard shard = parse_shard(shard_text);
-      const Suite suite = make_suite(suite_name, SuiteParams{quick, scenes_dir});
+      const bool is_study = study_cmd->parsed();
+      const Suite suite = is_study ? load_study(study_file, SuiteParams{quick, scenes_dir})
+                                   : make_suite(suite_name, SuiteParams{quick, scenes_dir});
+      if (is_study) suite_name = suite.name;
+      const char* kind = is_study ? "study " : "suite ";
       if (list_cases) {
         for (const std::size_t i : shard_cases(suite.cases.size(), shard)) out << suite.cases[i].id << "\n";
         return kExitOk;
@@ -336,7 +365,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         for (const CaseOutcome& c : result.cases) {
           if (!c.as_expected && which.size() < 200) which += (which.empty() ? "" : ", ") + c.id;
         }
-        return report(err, "suite " + suite_name + ": " + std::to_string(result.unexpected()) + " of " +
+        return report(err, kind + suite_name + ": " + std::to_string(result.unexpected()) + " of " +
                                std::to_string(result.cases.size()) + " cases did not end as expected (" + which +
                                "; see summary.csv)",
                       kExitRunFailed);

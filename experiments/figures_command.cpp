@@ -12,6 +12,7 @@
 
 #include "experiments/atomic_file.hpp"
 #include "experiments/ocp_command.hpp"
+#include "experiments/ocp_scene.hpp"
 #include "experiments/paper_values.hpp"
 #include "experiments/plot.hpp"
 
@@ -21,14 +22,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string figure_title(const std::string& system, int number) {
+/// "Fig. N: " and the scene's description (the ocp scenes describe their problem and method).
+std::string figure_title(const Scene& scene, int number) {
   // Appends only: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
   std::string n = "Fig. ";
   n.append(std::to_string(number)).append(": ");
-  if (system == "dumbbell") return n + "dumbbell spacecraft, indirect discrete optimal control (section 3.1)";
-  if (system == "pendulum") return n + "3D pendulum, indirect discrete optimal control (section 3.2)";
-  if (system == "cart-pendulum") return n + "3D pendulum on a cart, direct discrete optimal control (section 4.1)";
-  return n + "two rigid bodies connected by a ball joint, direct discrete optimal control (section 4.2)";
+  return n + scene.description;
 }
 
 std::string number_text(double x, int digits) {
@@ -40,8 +39,10 @@ std::string number_text(double x, int digits) {
 /// Second title line: the run's cost and terminal violation beside the paper's
 /// (validation/paper_values.toml), read from the ocp summary JSON (an object, or an array of
 /// one). Without a readable summary, the paper's values alone.
-std::string figure_values(const std::string& system, const fs::path& summary_file) {
-  const PaperExample& paper = paper_values().example(system);
+std::string figure_values(const Scene& scene, const fs::path& summary_file) {
+  const PaperExample* example = paper_values().find(scene.ocp->paper);
+  if (example == nullptr) throw InvalidInput(scene.file.string(), "ocp.paper: names no example of the paper");
+  const PaperExample& paper = *example;
   std::string run_cost = "-";
   std::string run_violation = "-";
   std::ifstream in(summary_file);
@@ -59,9 +60,9 @@ std::string figure_values(const std::string& system, const fs::path& summary_fil
          " (paper " + number_text(paper.terminal_violation, 3) + ")";
 }
 
-std::string script_name(const std::string& system) {
+std::string script_name(const std::string& label) {
   std::string s = "fig_";
-  s.append(system).append(".gp");
+  s.append(label).append(".gp");
   for (char& c : s) {
     if (c == '-') c = '_';
   }
@@ -88,8 +89,10 @@ CLI::App* add_figures_command(CLI::App& app, FiguresCommand& o) {
   cmd->add_option("--out", o.out, "Output directory of the ocp files and the figures")->capture_default_str();
   cmd->add_option("--from", o.from,
                   "Draw from the ocp-SYSTEM-*.csv files in this directory instead of solving again");
-  cmd->add_option("--only", o.only, "Systems to draw: dumbbell, pendulum, cart-pendulum, connected-bodies")
-      ->check(CLI::IsMember({"dumbbell", "pendulum", "cart-pendulum", "connected-bodies"}));
+  std::vector<std::string> names;
+  for (const auto& [name, number] : figure_systems()) names.push_back(name);
+  cmd->add_option("--only", o.only, "Examples to draw: dumbbell, pendulum, cart-pendulum, connected-bodies")
+      ->check(CLI::IsMember(names));
   o.plots_dir = default_plots_dir().string();
   o.gnuplot = default_gnuplot();
   cmd->add_option("--plots-dir", o.plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
@@ -115,6 +118,8 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
   int status = 0;
   for (const auto& [system, number] : figure_systems()) {
     if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), system) == o.only.end()) continue;
+    const Scene scene = load_scene(resolve_ocp_scene(system, default_scenes_dir()));
+    if (!scene.ocp) throw SceneError(scene.file.string(), "ocp", "is required (the figure's optimal control problem)");
     if (o.from.empty()) {
       OcpCommand ocp;
       ocp.system = system;
@@ -124,13 +129,14 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
       if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
     }
     const std::string title =
-        figure_title(system, number) + "\n" + figure_values(system, ocp_output_file(data_dir, system, "summary.json"));
+        figure_title(scene, number) + "\n" + figure_values(scene, ocp_output_file(data_dir, system, "summary.json"));
     std::vector<std::string> args = {title,
                                      gnuplot_path(require_file(ocp_output_file(data_dir, system, "trajectory.csv"))),
                                      gnuplot_path(require_file(ocp_output_file(data_dir, system, "history.csv")))};
-    if (is_direct_system(system)) {
+    if (scene.ocp->method == OcpMethod::Direct) {
       args.push_back(gnuplot_path(require_file(ocp_output_file(data_dir, system, "knots.csv"))));
     }
+    verify_ocp_run(data_dir, system);  // the files above are one run's
     std::string png_name = "fig";
     png_name.append(std::to_string(number)).append("-").append(system).append(".png");
     const fs::path png = out_dir / png_name;

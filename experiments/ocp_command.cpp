@@ -13,8 +13,11 @@
 #include "experiments/fields.hpp"
 #include "experiments/json_writer.hpp"
 #include "experiments/ocp_output.hpp"
+#include "experiments/ocp_scene.hpp"
 #include "experiments/paper_values.hpp"
 #include "experiments/simulate.hpp"
+#include "experiments/system_bindings.hpp"
+#include "experiments/systems/ocp.hpp"
 #include "lgvi/ocp/indirect.hpp"
 
 namespace lgvi::experiments {
@@ -22,19 +25,6 @@ namespace lgvi::experiments {
 namespace fs = std::filesystem;
 
 namespace {
-
-// Defaults, documented in the README ("Indirect optimal control"):
-//  - form printed: the paper states its discrete optimal control problem (eqs. 14-19, 24-28)
-//    for the printed LGVI (eqs. 8-12, 21-23); --form symmetric solves the symmetric one.
-//  - steps: the pendulum's h = 0.001 is the paper's; the dumbbell's step is not printed, we use
-//    the same number of steps, 1000 (h = pi/2000 over the quarter orbit T = pi/2).
-//  - the initial multiplier guesses carry no information about the answer: the dumbbell starts
-//    from lambda_0 = 0 (the uncontrolled motion); the pendulum from all ones (lambda_0 = 0 is a
-//    degenerate guess there: at rest with u = 0 the linearization cannot rotate about the
-//    vertical, the shape block is singular).
-constexpr double kPendulumStep = 1e-3;
-constexpr long long kDumbbellSteps = 1000;
-
 
 using ocp_output::join;
 using ocp_output::values;
@@ -111,12 +101,12 @@ void write_trajectory(const fs::path& file, const ocp::ShootingResult<Model>& re
 
 template <class Model>
 int solve_and_write(const typename Model::System& system, const ocp::TransferProblem& problem,
-                    const ocp::ShootingOptions& options, const PaperExample& paper, const OcpCommand& cmd,
+                    const ocp::ShootingOptions& options, const ocp_output::Run& run, const OcpCommand& cmd,
                     const std::string& command_line, std::ostream& out, std::ostream& err) {
   const ocp::ShootingResult<Model> result = ocp::solve_indirect(system, problem, options);
   const ocp::ShootingSummary& S = result.summary;
   if (S.status == ocp::ShootingStatus::InvalidInput) return ocp_output::invalid_input(cmd, S.message, err);
-  const ocp_output::Files files = ocp_output::create_files(cmd);
+  const ocp_output::Files files = ocp_output::create_files(cmd, run.label);
   const fs::path& history = files.history;
   const fs::path& trajectory = files.trajectory;
 
@@ -125,13 +115,13 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
   const bool have_r = r.size() > 0;
   const int nq = Model::nq;
   Fields f = {
-      {"system", cmd.system},
+      {"system", run.system},
       {"method", std::string("indirect shooting (Newton-Armijo on lambda_0)")},
       {"form", std::string(to_string(options.form))},
       {"h", options.h},
       {"steps", static_cast<std::int64_t>(S.steps)},
       {"t_final", problem.t_final},
-      {"W", std::string("identity")},
+      {"W", ocp_output::weight_text(options.W)},
       {"inertia_diagonal", join(system.inertia.J.diagonal())},
       {"decomposition", S.decomposition},
       {"merit", std::string(ocp::to_string(options.merit))},
@@ -155,7 +145,9 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
     f.push_back({"violation_velocity", have_r ? r.segment(nq + 3, 3).norm() : S.violation});
   }
   if constexpr (Model::has_translation) {
-    // The dumbbell's cost split into the moment and force controls (W = I).
+    // The dumbbell's cost split into the moment and force controls (W = I; with another W the
+    // split of u^T W u is not defined and the parts are left out).
+    if (ocp_output::weight_text(options.W) == "identity") {
     double moment = 0.0, force = 0.0;
     const auto [c0, c1] = impulse_weights(options.form, options.h);
     const auto& u = result.sweep.controls;
@@ -166,6 +158,7 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
     }
     f.push_back({"cost_moment", moment});
     f.push_back({"cost_force", force});
+    }
   }
   const Fields rest = {
       {"outer_iterations", std::int64_t{S.iterations}},
@@ -178,15 +171,21 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
       {"wall_seconds", S.wall_seconds},
       {"multiplier_guess", join(S.multiplier_guess)},
       {"multiplier", join(S.multiplier)},
-      {"paper_cost", paper.cost},
-      {"paper_violation", paper.terminal_violation},
-      {"paper_iterations", static_cast<std::int64_t>(paper.outer_iterations_approx.value_or(0.0))},
+  };
+  f.insert(f.end(), rest.begin(), rest.end());
+  if (run.paper != nullptr) {
+    f.push_back({"paper_cost", run.paper->cost});
+    f.push_back({"paper_violation", run.paper->terminal_violation});
+    f.push_back({"paper_iterations", static_cast<std::int64_t>(run.paper->outer_iterations_approx.value_or(0.0))});
+  }
+  const Fields files_fields = {
       {"history_csv", history.filename().string()},
       {"trajectory_csv", trajectory.filename().string()},
       {"git_describe", std::string(git_describe())},
       {"command_line", command_line},
   };
-  f.insert(f.end(), rest.begin(), rest.end());
+  f.insert(f.end(), files_fields.begin(), files_fields.end());
+  f.push_back({"run_id", files.run_id});
 
   write_history(history, S, f);
   if (!result.sweep.states.empty()) {
@@ -217,166 +216,187 @@ CLI::Validator number_in(double lo, double hi, bool lo_open, const std::string& 
 
 CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   CLI::App* cmd = app.add_subcommand(
-      "ocp", "Discrete optimal control: indirect (sec. 3.1, 3.2; Newton-Armijo shooting on the initial multiplier) or direct (sec. 4.1, 4.2; spline knots by SLSQP); "
-             "writes the iteration history, the trajectory and a JSON summary");
-  cmd->add_option("SYSTEM", o.system, "dumbbell (orbit transfer, sec. 3.1) | pendulum (180 deg about the vertical, sec. 3.2) | "
-                                "cart-pendulum (sec. 4.1) | connected-bodies (sec. 4.2): the last two by the direct method")
-      ->required()
-      ->check(CLI::IsMember({"dumbbell", "pendulum", "cart-pendulum", "connected-bodies"}));
-  cmd->add_option("--form", o.form, "LGVI form: printed (the paper's eqs.; default) | symmetric")->capture_default_str();
+      "ocp", "Discrete optimal control of a scene's [ocp] problem: indirect (sec. 3.1, 3.2; Newton-Armijo shooting on "
+             "the initial multiplier) or direct (sec. 4.1, 4.2; spline knots by SLSQP); writes the iteration history, "
+             "the trajectory and a JSON summary");
+  cmd->add_option("SCENE", o.system,
+                  "A scene file with an [ocp] table (experiments/scenes/README.md), or a name: the paper's examples "
+                  "dumbbell (sec. 3.1), pendulum (sec. 3.2), cart-pendulum (sec. 4.1), connected-bodies (sec. 4.2) "
+                  "run experiments/scenes/ocp-NAME.toml")
+      ->required();
+  cmd->add_option("--form", o.form, "LGVI form: printed | symmetric (default: the scene's [integration] form)");
   // Given options are checked when given (0 used to mean "the default" silently).
-  cmd->add_option("--h", o.h, "Time step (the horizon must be a whole number of steps; default: pendulum 0.001, "
-                              "dumbbell pi/2000)")
+  cmd->add_option("--h", o.h, "Time step (the horizon must be a whole number of steps; default: the scene's)")
       ->check(number_in(0.0, 1e100, true, "(0, 1e100]"));
   // At most 10^6 steps: the shooting keeps every step's state and sensitivities (1e8 steps ended
   // in std::bad_alloc); the paper's problems take 1000.
   cmd->add_option("--steps", o.steps, "Number of steps (instead of --h), 1 .. 1000000")
       ->check(number_in(1.0, 1e6, false, "[1, 1000000]"));
   cmd->add_flag("--no-decomposition", o.no_decomposition,
-                "Pendulum: invert the full (rank-deficient) sensitivity instead of its shape block");
-  cmd->add_option("--merit", o.merit, "Line-search merit: velocity (default) | momentum")->capture_default_str();
+                "Indirect: invert the full (rank-deficient) sensitivity instead of its shape block");
+  cmd->add_option("--merit", o.merit, "Indirect: line-search merit, velocity | momentum");
   cmd->add_option("--globalization", o.globalization,
-                  "Indirect method: newton-armijo (the paper's; default) | levenberg-marquardt | homotopy "
-                  "(Newton homotopy path following, then Newton-Armijo)")
-      ->capture_default_str();
-  cmd->add_option("--lm-damping", o.lm_damping, "Levenberg-Marquardt: initial damping mu_0 (relative to diag(J^T J))")
-      ->capture_default_str();
+                  "Indirect method: newton-armijo (the paper's) | levenberg-marquardt | homotopy "
+                  "(Newton homotopy path following, then Newton-Armijo) | continuation (the same path, Hermite "
+                  "predictor, Broyden corrector, Jacobians at path points only, then Newton-Armijo)");
+  cmd->add_option("--lm-damping", o.lm_damping, "Levenberg-Marquardt: initial damping mu_0 (relative to diag(J^T J))");
   cmd->add_option("--nonmonotone-memory", o.nonmonotone_memory,
                   "Newton-Armijo / homotopy end game: Armijo test against the largest merit of the last M "
-                  "accepted points (1: monotone)")
-      ->capture_default_str();
-  cmd->add_option("--guess", o.guess, "Initial multiplier lambda_0, comma-separated (6 pendulum, 12 dumbbell values)")
+                  "accepted points (1: monotone)");
+  cmd->add_option("--guess", o.guess,
+                  "Indirect: initial multiplier lambda_0, comma-separated (2 n_q values: 6 pendulum and free body, "
+                  "12 dumbbell)")
       ->delimiter(',');
   cmd->add_option("--max-iterations", o.max_iterations,
-                  "Indirect: outer Newton iterations (default 300); direct: SLSQP evaluations per start (default 3000)");
-  cmd->add_option("--t-final", o.t_final, "Horizon (default: the paper's, pendulum 1, dumbbell pi/2)")
+                  "Indirect: outer Newton iterations; direct: SLSQP evaluations (IPOPT iterations) per start");
+  cmd->add_option("--t-final", o.t_final, "Horizon (default: the scene's; the step stays the scene's h)")
       ->check(number_in(0.0, 1e100, true, "(0, 1e100]"));
   cmd->add_option("--sphere-radius", o.sphere_radius,
-                  "Dumbbell: radius of the two spheres (sets the rod-axis inertia; default 0.05, README)");
+                  "Dumbbell: radius of the two spheres (sets the rod-axis inertia; default: the scene's)");
   cmd->add_option("--out", o.out, "Output directory")->capture_default_str();
-  cmd->add_option("--knots", o.knots, "Direct method: spline knots per control component")->capture_default_str();
-  cmd->add_option("--spline", o.spline, "Direct method: spline end condition, not-a-knot | natural")
-      ->capture_default_str();
-  cmd->add_option("--gradients", o.gradients, "Direct method: exact | finite-difference")->capture_default_str();
-  cmd->add_option("--tolerance", o.tolerance, "Direct method: bound on the terminal violation")->capture_default_str();
-  cmd->add_option("--starts", o.starts,
-                  "Direct method: SLSQP starts (the default guess, then seeded random knots); default: "
-                  "cart-pendulum 1, connected-bodies 8");
+  cmd->add_option("--knots", o.knots, "Direct method: spline knots per control component");
+  cmd->add_option("--spline", o.spline, "Direct method: spline end condition, not-a-knot | natural");
+  cmd->add_option("--gradients", o.gradients, "Direct method: exact | finite-difference");
+  cmd->add_option("--tolerance", o.tolerance, "Direct method: bound on the terminal violation");
+  cmd->add_option("--starts", o.starts, "Direct method: SLSQP starts (the default guess, then seeded random knots)");
   cmd->add_option("--solver", o.solver,
-                  "Direct method: slsqp (the paper's single shooting; default) | ipopt (multiple shooting)")
-      ->capture_default_str();
+                  "Direct method: slsqp (the paper's single shooting) | ipopt (multiple shooting)");
   cmd->add_option("--hessian", o.hessian,
                   "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
-                  "constraint curvature left out)")
-      ->capture_default_str();
+                  "constraint curvature left out) | exact (Hessian of the Lagrangian by forward differences of its "
+                  "exact gradient, columns grouped by colour)");
   cmd->add_option("--state-guess", o.state_guess,
                   "Direct method, --solver ipopt: initial states, geodesic (between the boundary states) | "
-                  "simulated (the guess control's run)")
-      ->capture_default_str();
+                  "simulated (the guess control's run)");
   cmd->add_option("--shooting-interval", o.shooting_interval,
                   "Direct method, --solver ipopt: LGVI steps per shooting segment (1: every state a variable; "
                   "default 40)");
-  cmd->add_option("--seed", o.seed, "Direct method: seed of the random starts")->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Direct method: seed of the random starts");
   cmd->add_option("--first-start", o.first_start,
                   "Direct method: number of the first start run (0 = the default guess; K > 0 the K-th "
                   "seeded random start), so one start of a multistart can be rerun alone")
       ->capture_default_str();
-  // An option of the other method is an error, not silently ignored.
-  cmd->parse_complete_callback([cmd]() {
-    const std::string system = cmd->get_option("SYSTEM")->as<std::string>();
-    const bool direct = is_direct_system(system);
-    for (const char* name : {"--knots", "--spline", "--gradients", "--tolerance", "--starts", "--solver", "--hessian",
-                             "--state-guess", "--shooting-interval", "--seed", "--first-start"}) {
-      if (!direct && cmd->count(name) > 0) {
-        throw CLI::ValidationError(name, "applies to the direct method only (cart-pendulum, connected-bodies), not to " +
-                                             system);
-      }
-    }
-    for (const char* name : {"--no-decomposition", "--merit", "--globalization", "--lm-damping", "--nonmonotone-memory", "--guess",
-                             "--sphere-radius"}) {
-      if (direct && cmd->count(name) > 0) {
-        throw CLI::ValidationError(name, "applies to the indirect method only (pendulum, dumbbell), not to " + system);
-      }
-    }
-  });
   return cmd;
 }
 
-bool is_direct_system(const std::string& system) {
-  return system == "cart-pendulum" || system == "connected-bodies";
+bool is_direct_system(const std::string& name_or_path) {
+  const Scene scene = load_scene(resolve_ocp_scene(name_or_path, default_scenes_dir()));
+  return scene.ocp && scene.ocp->method == OcpMethod::Direct;
 }
 
-fs::path ocp_output_file(const fs::path& dir, const std::string& system, const std::string& what) {
+fs::path ocp_output_file(const fs::path& dir, const std::string& label, const std::string& what) {
   // Appends only: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
   std::string name = "ocp-";
-  name.append(system).append("-").append(what);
+  name.append(label).append("-").append(what);
   return dir / name;
 }
 
+namespace {
+
+/// An option of the other method is an error, not silently ignored.
+void check_method_options(const OcpCommand& cmd, OcpMethod method) {
+  const std::string scene_text = " (the scene's ocp.method is '" + std::string(to_string(method)) + "')";
+  if (method == OcpMethod::Indirect) {
+    const std::pair<const char*, bool> direct_only[] = {
+        {"--knots", cmd.knots.has_value()},        {"--spline", cmd.spline.has_value()},
+        {"--gradients", cmd.gradients.has_value()}, {"--tolerance", cmd.tolerance.has_value()},
+        {"--starts", cmd.starts != 0},             {"--solver", cmd.solver.has_value()},
+        {"--hessian", cmd.hessian.has_value()},    {"--state-guess", cmd.state_guess.has_value()},
+        {"--shooting-interval", cmd.shooting_interval != 0}, {"--seed", cmd.seed.has_value()},
+        {"--first-start", cmd.first_start != 0}};
+    for (const auto& [name, given] : direct_only) {
+      if (given) throw InvalidInput(name, "applies to the direct method only, not to " + cmd.system + scene_text);
+    }
+  } else {
+    const std::pair<const char*, bool> indirect_only[] = {
+        {"--no-decomposition", cmd.no_decomposition}, {"--merit", cmd.merit.has_value()},
+        {"--globalization", cmd.globalization.has_value()}, {"--lm-damping", cmd.lm_damping.has_value()},
+        {"--nonmonotone-memory", cmd.nonmonotone_memory.has_value()}, {"--guess", !cmd.guess.empty()}};
+    for (const auto& [name, given] : indirect_only) {
+      if (given) throw InvalidInput(name, "applies to the indirect method only, not to " + cmd.system + scene_text);
+    }
+  }
+}
+
+/// The indirect method on the scene's problem, with the command's replacements.
+template <class M>
+int run_indirect(const Scene& scene, const M& m, const OcpCommand& cmd, const std::string& command_line,
+                 std::ostream& out, std::ostream& err) {
+  using B = OcpBinding<M>;
+  if constexpr (!B::indirect) {
+    throw InvalidInput("ocp.method", std::string("the ") + M::name + " has no indirect method");
+  } else {
+    const OcpDefinition& d = *scene.ocp;
+    ocp::ShootingOptions options = d.indirect;
+    options.form = scene.form;
+    options.h = scene.horizon.h;
+    if (cmd.merit) {
+      try {
+        options.merit = ocp::parse_merit(*cmd.merit);
+      } catch (const InvalidInput&) {
+        throw InvalidInput("--merit", "must be 'velocity' or 'momentum' (got '" + *cmd.merit + "')");
+      }
+    }
+    if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 0");
+    if (cmd.no_decomposition) options.decomposition = false;
+    if (cmd.globalization) {
+      try {
+        options.globalization = ocp::parse_globalization(*cmd.globalization);
+      } catch (const InvalidInput&) {
+        throw InvalidInput("--globalization", "must be 'newton-armijo', 'levenberg-marquardt', 'homotopy' or 'continuation' (got '" +
+                                                  *cmd.globalization + "')");
+      }
+    }
+    if (cmd.lm_damping) {
+      if (!(*cmd.lm_damping > 0.0) || !std::isfinite(*cmd.lm_damping)) {
+        throw InvalidInput("--lm-damping", "must be > 0");
+      }
+      options.lm_initial_damping = *cmd.lm_damping;
+    }
+    if (cmd.nonmonotone_memory) {
+      if (*cmd.nonmonotone_memory < 1) throw InvalidInput("--nonmonotone-memory", "must be >= 1");
+      options.nonmonotone_memory = *cmd.nonmonotone_memory;
+    }
+    if (cmd.max_iterations > 0) options.max_iterations = cmd.max_iterations;
+    const int n = 2 * B::IndirectModel::nq;
+    if (!cmd.guess.empty()) {
+      if (static_cast<int>(cmd.guess.size()) != n) {
+        throw InvalidInput("--guess", "needs " + std::to_string(n) + " values for the " + scene.system() + " (got " +
+                                          std::to_string(cmd.guess.size()) + ")");
+      }
+      options.initial_multiplier = Eigen::Map<const Eigen::VectorXd>(cmd.guess.data(), n);
+    }
+    const ocp::TransferProblem problem =
+        B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
+    const auto system = ocp_output::with_sphere_radius(B::system(m), cmd.sphere_radius);
+    return solve_and_write<typename B::IndirectModel>(system, problem, options, ocp_output::Run::of(scene), cmd,
+                                                      command_line, out, err);
+  }
+}
+
+}  // namespace
+
 int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std::ostream& out, std::ostream& err) {
-  if (is_direct_system(cmd.system)) {
-    return run_ocp_direct_command(cmd, command_line, out, err);
-  }
-  ocp::ShootingOptions options;
-  options.form = ocp_output::parse_form(cmd);
-  try {
-    options.merit = ocp::parse_merit(cmd.merit);
-  } catch (const InvalidInput&) {
-    throw InvalidInput("--merit", "must be 'velocity' or 'momentum' (got '" + cmd.merit + "')");
-  }
+  const fs::path file = resolve_ocp_scene(cmd.system, default_scenes_dir());
   ocp_output::check_step_options(cmd);
-  if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 0");
-  options.decomposition = !cmd.no_decomposition;
-  try {
-    options.globalization = ocp::parse_globalization(cmd.globalization);
-  } catch (const InvalidInput&) {
-    throw InvalidInput("--globalization",
-                       "must be 'newton-armijo', 'levenberg-marquardt' or 'homotopy' (got '" +
-                           cmd.globalization + "')");
+  SceneOverrides overrides;
+  if (cmd.form) overrides.form = ocp_output::parse_form(cmd);
+  if (cmd.t_final != 0.0) overrides.t_final = cmd.t_final;
+  if (cmd.h != 0.0) overrides.h = cmd.h;
+  Scene scene = load_scene(file, overrides);
+  if (cmd.steps > 0) {
+    overrides.h = scene.horizon.t_final / static_cast<double>(cmd.steps);
+    scene = load_scene(file, overrides);
   }
-  if (!(cmd.lm_damping > 0.0) || !std::isfinite(cmd.lm_damping)) throw InvalidInput("--lm-damping", "must be > 0");
-  options.lm_initial_damping = cmd.lm_damping;
-  if (cmd.nonmonotone_memory < 1) throw InvalidInput("--nonmonotone-memory", "must be >= 1");
-  options.nonmonotone_memory = cmd.nonmonotone_memory;
-  options.max_iterations = cmd.max_iterations > 0 ? cmd.max_iterations : 300;
-  const bool pendulum = cmd.system == "pendulum";
-  ocp::TransferProblem problem =
-      pendulum ? ocp::TransferProblem::pendulum_paper() : ocp::TransferProblem::dumbbell_paper();
-  if (cmd.t_final != 0.0) {
-    require_positive(cmd.t_final, "--t-final");
-    problem.t_final = cmd.t_final;
+  if (!scene.ocp) {
+    throw SceneError(file.string(), "ocp",
+                     "is required (the optimal control problem: an [ocp] table, experiments/scenes/README.md)");
   }
-  if (cmd.sphere_radius != 0.0 && pendulum) throw InvalidInput("--sphere-radius", "applies to the dumbbell only");
-  if (cmd.h != 0.0) {
-    options.h = cmd.h;
-  } else if (cmd.steps > 0) {
-    options.h = problem.t_final / static_cast<double>(cmd.steps);
-  } else {
-    options.h = pendulum ? kPendulumStep : problem.t_final / static_cast<double>(kDumbbellSteps);
-  }
-  const int n = pendulum ? 6 : 12;
-  if (!cmd.guess.empty()) {
-    if (static_cast<int>(cmd.guess.size()) != n) {
-      throw InvalidInput("--guess", "needs " + std::to_string(n) + " values for the " + cmd.system + " (got " +
-                                        std::to_string(cmd.guess.size()) + ")");
-    }
-    options.initial_multiplier = Eigen::Map<const Eigen::VectorXd>(cmd.guess.data(), n);
-  } else {
-    options.initial_multiplier = pendulum ? Eigen::VectorXd::Ones(n) : Eigen::VectorXd::Zero(n);
-  }
-  if (pendulum) {
-    return solve_and_write<ocp::PendulumModel>(Pendulum3D::paper(), problem, options, paper_values().pendulum, cmd,
-                                               command_line, out, err);
-  }
-  DumbbellSpacecraft dumbbell = DumbbellSpacecraft::paper();
-  if (cmd.sphere_radius != 0.0) {
-    try {
-      dumbbell = DumbbellSpacecraft(dumbbell.mass, dumbbell.mu, dumbbell.rho, cmd.sphere_radius);
-    } catch (const InvalidInput& e) {
-      throw InvalidInput("--sphere-radius", e.what());
-    }
-  }
-  return solve_and_write<ocp::DumbbellModel>(dumbbell, problem, options, paper_values().dumbbell, cmd, command_line, out, err);
+  check_method_options(cmd, scene.ocp->method);
+  return visit_binding(scene.model, [&](auto, const auto& m) {
+    return scene.ocp->method == OcpMethod::Indirect ? run_indirect(scene, m, cmd, command_line, out, err)
+                                                    : ocp_output::run_direct(scene, cmd, command_line, out, err);
+  });
 }
 
 }  // namespace lgvi::experiments

@@ -63,6 +63,21 @@ const PaperExample& PaperValues::example(const std::string& system) const {
   throw InvalidInput("system", "the paper has no optimal control example for '" + system + "'");
 }
 
+const PaperExample* PaperValues::find(const std::string& key) const {
+  for (const PaperExample* e : {&dumbbell, &pendulum, &cart_pendulum, &connected_bodies}) {
+    if (e->key == key) return e;
+  }
+  return nullptr;
+}
+
+std::string PaperValues::keys() const {
+  std::string s;
+  for (const PaperExample* e : {&dumbbell, &pendulum, &cart_pendulum, &connected_bodies}) {
+    s += (s.empty() ? "" : ", ") + e->key;
+  }
+  return s;
+}
+
 const PaperValues& paper_values() {
   static const PaperValues values = parse();
   return values;

@@ -34,6 +34,10 @@ struct PaperValues {
   /// The example of an ocp system name ("pendulum", "dumbbell", "cart-pendulum",
   /// "connected-bodies"). Throws InvalidInput("system", ...) for another name.
   const PaperExample& example(const std::string& system) const;
+  /// The example whose table in paper_values.toml is `key` ("pendulum_reorientation"), or null.
+  const PaperExample* find(const std::string& key) const;
+  /// The four tables' names, comma-separated (for messages).
+  std::string keys() const;
 };
 
 /// The values, parsed once (thread-safe). A malformed embedded file is a build defect: it throws

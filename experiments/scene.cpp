@@ -5,6 +5,8 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
 #include <cstring>
 #include <fstream>
 #include <initializer_list>
@@ -14,8 +16,11 @@
 
 #include <toml++/toml.h>
 
+#include "experiments/csv_writer.hpp"
 #include "experiments/data_dir.hpp"
+#include "experiments/ocp_scene.hpp"
 #include "experiments/scene_reader.hpp"
+#include "experiments/toml_text.hpp"
 #include "experiments/system_bindings.hpp"
 #include "lgvi/so3.hpp"
 
@@ -226,21 +231,135 @@ class Reader {
     fail(field, "must be the principal moments [J1, J2, J3] or a 3x3 array of arrays (got " + describe(n) + ")");
   }
 
-  Sinusoid sinusoid(const toml::table& t, const std::string& prefix) const {
-    Sinusoid s;
-    s.amplitude = required(t, "amplitude", prefix, &Reader::vec3);
-    s.frequency = required(t, "frequency", prefix, &Reader::vec3);
-    if (const toml::node* p = t.get("phase")) s.phase = vec3(*p, prefix + ".phase");
-    return s;
+  /// The control of table t (TimeControl) with `dim` components (3, or 2 for the cart's forces);
+  /// `scene_dir` resolves a piecewise-linear control's file.
+  TimeControl time_control(const toml::table& t, const std::string& prefix, int dim, const fs::path& scene_dir) const {
+    TimeControl c;
+    std::string type = "sinusoid";
+    if (const toml::node* n = t.get("type")) type = string(*n, prefix + ".type");
+    std::vector<std::string_view> keys;
+    if (type == "sinusoid") {
+      keys = {"type", "amplitude", "frequency", "phase"};
+    } else if (type == "constant") {
+      keys = {"type", "value"};
+      c.kind = TimeControl::Kind::Constant;
+    } else if (type == "piecewise-linear") {
+      keys = {"type", "file"};
+      c.kind = TimeControl::Kind::PiecewiseLinear;
+    } else if (type == "pd") {
+      fail(prefix + ".type", "type \"pd\" (attitude feedback) is available for the free-body and pendulum systems only");
+    } else {
+      fail(prefix + ".type", "unknown control type '" + type +
+                                 "' (expected one of: sinusoid, constant, piecewise-linear; pd for free-body and pendulum)");
+    }
+    for (auto&& entry : t) {
+      const std::string_view key = entry.first.str();
+      if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
+      std::string expected;
+      for (std::string_view k : keys) expected += (expected.empty() ? "" : ", ") + std::string(k);
+      fail(join_key(prefix, key), "is not a key of a " + type + " control (type = \"" + type + "\" takes: " + expected + ")");
+    }
+    const auto vec = [&](std::string_view key, bool is_required) -> Vec3 {
+      const toml::node* n = t.get(key);
+      if (n == nullptr) {
+        if (is_required) required(t, key, prefix);
+        return Vec3::Zero();
+      }
+      Vec3 v = Vec3::Zero();
+      if (dim == 2) {
+        v.head<2>() = vec2(*n, join_key(prefix, key));
+      } else {
+        v = vec3(*n, join_key(prefix, key));
+      }
+      return v;
+    };
+    switch (c.kind) {
+      case TimeControl::Kind::Sinusoid:
+        c.amplitude = vec("amplitude", true);
+        c.frequency = vec("frequency", true);
+        c.phase = vec("phase", false);
+        break;
+      case TimeControl::Kind::Constant: c.value = vec("value", true); break;
+      case TimeControl::Kind::PiecewiseLinear: {
+        const std::string file = required(t, "file", prefix, &Reader::string);
+        c.samples = read_samples(scene_dir / file, prefix + ".file", dim);
+        break;
+      }
+    }
+    return c;
   }
 
-  /// A sinusoid with 2 components (the cart's forces); the third component stays 0.
-  Sinusoid sinusoid2(const toml::table& t, const std::string& prefix) const {
-    Sinusoid s;
-    s.amplitude.head<2>() = required(t, "amplitude", prefix, &Reader::vec2);
-    s.frequency.head<2>() = required(t, "frequency", prefix, &Reader::vec2);
-    if (const toml::node* p = t.get("phase")) s.phase.head<2>() = vec2(*p, prefix + ".phase");
-    return s;
+  /// Samples t, u_1..u_dim from a CSV file: '#' comments and blank lines skipped, an optional
+  /// header row (a first row whose first cell is not a number), then rows of dim + 1 finite
+  /// numbers with t strictly increasing, at least 2 rows. Errors name field and "FILE:LINE".
+  std::shared_ptr<const baselines::SampledControl<3>> read_samples(const fs::path& path, const std::string& field,
+                                                                   int dim) const {
+    std::ifstream in(path);
+    std::error_code ec;
+    if (!in || fs::is_directory(path, ec)) {
+      fail(field, "cannot read the control samples '" + path.string() + "': " +
+                      (fs::is_directory(path, ec) ? std::string("is a directory") : std::strerror(errno)));
+    }
+    std::vector<double> times;
+    std::vector<Vec3> values;
+    std::string line;
+    const auto at = [&](std::size_t n) { return path.string() + ":" + std::to_string(n) + ": "; };
+    const auto parse = [](const std::string& cell, double& x) {
+      const char* begin = cell.c_str();
+      while (*begin == ' ' || *begin == '\t') ++begin;
+      char* end = nullptr;
+      x = std::strtod(begin, &end);
+      if (end == begin) return false;
+      while (*end == ' ' || *end == '\t' || *end == '\r') ++end;
+      return *end == '\0';
+    };
+    constexpr std::size_t kMaxSamples = 10'000'000;
+    bool first_row = true;
+    for (std::size_t n = 1; std::getline(in, line); ++n) {
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.find_first_not_of(" \t") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+      const std::vector<std::string> cells = split_csv_row(line);
+      double x = 0.0;
+      if (first_row && !cells.empty() && !parse(cells[0], x)) {
+        first_row = false;  // a header
+        continue;
+      }
+      first_row = false;
+      if (cells.size() != static_cast<std::size_t>(dim) + 1) {
+        fail(field, at(n) + "has " + std::to_string(cells.size()) + " columns (expected " + std::to_string(dim + 1) +
+                        ": t, u1.." + "u" + std::to_string(dim) + ")");
+      }
+      Vec3 u = Vec3::Zero();
+      double t_row = 0.0;
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        double v = 0.0;
+        if (!parse(cells[i], v) || !std::isfinite(v)) {
+          fail(field, at(n) + "column " + std::to_string(i + 1) + " ('" + cells[i] + "') is not a finite number");
+        }
+        if (v != 0.0 && !(std::abs(v) >= kMinSceneMagnitude && std::abs(v) <= kMaxSceneMagnitude)) {
+          fail(field, at(n) + "column " + std::to_string(i + 1) + " (" + format_number(v) +
+                          ") must be 0 or of magnitude between 1e-100 and 1e100");
+        }
+        if (i == 0) {
+          t_row = v;
+        } else {
+          u(static_cast<int>(i) - 1) = v;
+        }
+      }
+      if (!times.empty() && !(t_row > times.back())) {
+        fail(field, at(n) + "t = " + format_number(t_row) + " is not greater than the previous t = " +
+                        format_number(times.back()) + " (times must be strictly increasing)");
+      }
+      if (times.size() >= kMaxSamples) fail(field, at(n) + "more than " + std::to_string(kMaxSamples) + " samples");
+      times.push_back(t_row);
+      values.push_back(u);
+    }
+    if (in.bad()) fail(field, "cannot read the control samples '" + path.string() + "': " + std::strerror(errno));
+    if (times.size() < 2) {
+      fail(field, path.string() + ": has " + std::to_string(times.size()) + " sample rows (at least 2 needed)");
+    }
+    return std::make_shared<const baselines::SampledControl<3>>(std::move(times), std::move(values),
+                                                               baselines::Interpolation::PiecewiseLinear);
   }
 
   /// Runs a physics constructor/validator, re-raising its InvalidInput with `prefix` + field.
@@ -407,14 +526,215 @@ Mat3 SceneReader::inertia(const SceneTable& t, std::string_view key) const {
   return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::inertia);
 }
 
-Mat3 SceneReader::attitude(const SceneTable& t, std::string_view key) const {
-  const toml::node* n = SceneTableAccess::get(t).get(key);
-  return n == nullptr ? Mat3::Identity() : Reader(file_).mat3(*n, join_key(t.path(), key));
+bool SceneReader::has(const SceneTable& t, std::string_view key) const {
+  return SceneTableAccess::get(t).get(key) != nullptr;
+}
+std::string SceneReader::string(const SceneTable& t, std::string_view key) const {
+  return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::string);
+}
+std::int64_t SceneReader::integer(const SceneTable& t, std::string_view key) const {
+  return Reader(file_).required(SceneTableAccess::get(t), key, t.path(), &Reader::integer);
+}
+bool SceneReader::boolean(const SceneTable& t, std::string_view key) const {
+  const Reader r(file_);
+  const toml::node& n = r.required(SceneTableAccess::get(t), key, t.path());
+  const auto* b = n.as_boolean();
+  if (b == nullptr) r.fail(join_key(t.path(), key), std::string("must be true or false (got ") + describe(n) + ")");
+  return b->get();
+}
+Eigen::VectorXd SceneReader::vector(const SceneTable& t, std::string_view key, int n) const {
+  const Reader r(file_);
+  const std::string field = join_key(t.path(), key);
+  const toml::node& node = r.required(SceneTableAccess::get(t), key, t.path());
+  const toml::array* a = node.as_array();
+  if (a == nullptr || a->size() != static_cast<std::size_t>(n)) {
+    r.fail(field, "must be an array of " + std::to_string(n) + " numbers (got " + describe(node) + ")");
+  }
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v(i) = r.number(*a->get(i), field + "[" + std::to_string(i) + "]");
+  return v;
+}
+Eigen::MatrixXd SceneReader::matrix(const SceneTable& t, std::string_view key, int n) const {
+  const Reader r(file_);
+  const std::string field = join_key(t.path(), key);
+  const toml::node& node = r.required(SceneTableAccess::get(t), key, t.path());
+  const std::string shape = std::to_string(n) + "x" + std::to_string(n);
+  const toml::array* a = node.as_array();
+  if (a == nullptr || a->size() != static_cast<std::size_t>(n)) {
+    r.fail(field, "must be a " + shape + " array of arrays (" + std::to_string(n) + " rows of " + std::to_string(n) +
+                      " numbers; got " + describe(node) + ")");
+  }
+  Eigen::MatrixXd m(n, n);
+  for (int i = 0; i < n; ++i) {
+    const toml::node& row = *a->get(i);
+    const toml::array* ra = row.as_array();
+    if (ra == nullptr || ra->size() != static_cast<std::size_t>(n)) {
+      r.fail(field, "must be a " + shape + " array of arrays (row " + std::to_string(i) + " is " + describe(row) + ")");
+    }
+    for (int j = 0; j < n; ++j) {
+      m(i, j) = r.number(*ra->get(j), field + "[" + std::to_string(i) + "][" + std::to_string(j) + "]");
+    }
+  }
+  return m;
 }
 
-Sinusoid SceneReader::sinusoid(const SceneTable& t) const { return Reader(file_).sinusoid(SceneTableAccess::get(t), t.path()); }
-Sinusoid SceneReader::sinusoid2(const SceneTable& t) const {
-  return Reader(file_).sinusoid2(SceneTableAccess::get(t), t.path());
+namespace {
+
+/// Stable storage for the keys of attitude_keys / body_rate_keys (string_views point into it).
+std::span<const std::string_view> keys_of(std::string_view key) {
+  static constexpr std::array<std::array<std::string_view, 3>, 7> kKeys = {{
+      {"R", "quaternion", "euler"},
+      {"R1", "quaternion1", "euler1"},
+      {"R2", "quaternion2", "euler2"},
+      {"target", "target_quaternion", "target_euler"},
+      {"Omega", "omega_space", ""},
+      {"Omega1", "omega_space1", ""},
+      {"Omega2", "omega_space2", ""},
+  }};
+  for (const auto& keys : kKeys) {
+    if (keys[0] == key) return {keys.data(), keys[2].empty() ? 2u : 3u};
+  }
+  throw std::logic_error("no attitude or body rate keys for '" + std::string(key) + "'");
+}
+
+/// The first of `keys` present in t, failing when a second one is present too.
+const toml::node* exactly_one(const Reader& r, const toml::table& t, const std::string& prefix,
+                              std::span<const std::string_view> keys, std::string_view* found) {
+  const toml::node* node = nullptr;
+  for (const std::string_view key : keys) {
+    const toml::node* n = t.get(key);
+    if (n == nullptr) continue;
+    if (node != nullptr) {
+      std::string names;
+      for (const std::string_view k : keys) names += (names.empty() ? "" : ", ") + join_key(prefix, k);
+      r.fail(join_key(prefix, key), "conflicts with " + join_key(prefix, *found) + " (give at most one of " + names + ")");
+    }
+    node = n;
+    *found = key;
+  }
+  return node;
+}
+
+}  // namespace
+
+Mat3 euler_rotation(std::string_view sequence, const Vec3& angles) {
+  const auto refuse = [&] {
+    throw InvalidInput("sequence", "'" + std::string(sequence) +
+                                       "' is not an Euler sequence (3 axes from XYZ, no two equal neighbours: "
+                                       "Tait-Bryan XYZ XZY YXZ YZX ZXY ZYX or proper XYX XZX YXY YZY ZXZ ZYZ; upper "
+                                       "case intrinsic, lower case extrinsic)");
+  };
+  if (sequence.size() != 3) refuse();
+  const bool intrinsic = sequence[0] >= 'X' && sequence[0] <= 'Z';
+  const char first = intrinsic ? 'X' : 'x';
+  std::array<int, 3> axis{};
+  for (int i = 0; i < 3; ++i) {
+    axis[i] = sequence[i] - first;
+    if (axis[i] < 0 || axis[i] > 2 || (i > 0 && axis[i] == axis[i - 1])) refuse();
+  }
+  Mat3 R = Mat3::Identity();
+  for (int i = 0; i < 3; ++i) {
+    const Mat3 Ri = so3::exp(angles(i) * Vec3::Unit(axis[i]));
+    R = intrinsic ? Mat3(R * Ri) : Mat3(Ri * R);
+  }
+  return R;
+}
+
+std::vector<std::string_view> SceneReader::attitude_keys(std::string_view key) {
+  const auto keys = keys_of(key);
+  return {keys.begin(), keys.end()};
+}
+std::vector<std::string_view> SceneReader::body_rate_keys(std::string_view key) {
+  const auto keys = keys_of(key);
+  return {keys.begin(), keys.end()};
+}
+
+Mat3 SceneReader::attitude(const SceneTable& t, std::string_view key) const {
+  const Reader r(file_);
+  const toml::table& table = SceneTableAccess::get(t);
+  std::string_view found;
+  const toml::node* n = exactly_one(r, table, t.path(), keys_of(key), &found);
+  if (n == nullptr) return Mat3::Identity();
+  const std::string field = join_key(t.path(), found);
+  const auto keys = keys_of(key);
+  if (found == keys[0]) return r.mat3(*n, field);
+  if (found == keys[1]) {
+    const toml::array* a = n->as_array();
+    if (a == nullptr || a->size() != 4) {
+      r.fail(field, "must be a unit quaternion [w, x, y, z], scalar first (an array of 4 numbers; got " +
+                        describe(*n) + ")");
+    }
+    Eigen::Vector4d q;
+    for (int i = 0; i < 4; ++i) q(i) = r.number(*a->get(static_cast<std::size_t>(i)), field + "[" + std::to_string(i) + "]");
+    const double norm = q.norm();
+    if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
+      r.fail(field, "is not a unit quaternion (|q| = " + format_number(norm) + "; |q| - 1 must be within " +
+                        format_number(kQuaternionNormTolerance) + ")");
+    }
+    q /= norm;
+    return Eigen::Quaterniond(q(0), q(1), q(2), q(3)).toRotationMatrix();
+  }
+  // Euler angles: a table {sequence, angles}.
+  if (!n->is_table()) {
+    r.fail(field, std::string("must be a table { sequence = \"ZYX\", angles = [a1, a2, a3] } (got ") + describe(*n) + ")");
+  }
+  const toml::table& euler = *n->as_table();
+  r.check_keys(euler, field, {"sequence", "angles"});
+  const std::string sequence = r.required(euler, "sequence", field, &Reader::string);
+  const Vec3 angles = r.required(euler, "angles", field, &Reader::vec3);
+  return r.physics(field + ".", [&] { return euler_rotation(sequence, angles); });
+}
+
+Vec3 SceneReader::body_rate(const SceneTable& t, std::string_view key, const Mat3& R) const {
+  const Reader r(file_);
+  std::string_view found;
+  const toml::node* n = exactly_one(r, SceneTableAccess::get(t), t.path(), keys_of(key), &found);
+  if (n == nullptr) {
+    r.fail(join_key(t.path(), key), "is required (or " + join_key(t.path(), keys_of(key)[1]) + ", the space frame)");
+  }
+  const Vec3 w = r.vec3(*n, join_key(t.path(), found));
+  return found == key ? w : Vec3(R.transpose() * w);
+}
+
+std::string SceneReader::control_type(const SceneTable& t) const {
+  const toml::node* n = SceneTableAccess::get(t).get("type");
+  return n == nullptr ? std::string("sinusoid") : Reader(file_).string(*n, join_key(t.path(), "type"));
+}
+
+AttitudeFeedback SceneReader::feedback(const SceneTable& t) const {
+  const Reader r(file_);
+  const toml::table& table = SceneTableAccess::get(t);
+  static constexpr std::array<std::string_view, 6> kKeys = {"type", "kp", "kd", "target", "target_quaternion",
+                                                            "target_euler"};
+  for (auto&& entry : table) {
+    const std::string_view key = entry.first.str();
+    if (std::find(kKeys.begin(), kKeys.end(), key) != kKeys.end()) continue;
+    r.fail(join_key(t.path(), key),
+           "is not a key of a pd control (type = \"pd\" takes: type, kp, kd, target, target_quaternion, target_euler)");
+  }
+  AttitudeFeedback f;
+  f.kp = number(t, "kp");
+  f.kd = number(t, "kd");
+  for (const auto& [gain, name] : {std::pair{f.kp, "kp"}, std::pair{f.kd, "kd"}}) {
+    if (gain < 0.0) r.fail(join_key(t.path(), name), "must be >= 0 (got " + format_number(gain) + ")");
+  }
+  f.target = attitude(t, "target");
+  if (!so3::is_rotation(f.target, 1e-10)) {
+    r.fail(join_key(t.path(), "target"), "is not a rotation matrix (R^T R != I or det R != 1, to 1e-10)");
+  }
+  return f;
+}
+
+Vec3 AttitudeFeedback::moment(const Mat3& R, const Vec3& Omega) const {
+  const Mat3 E = target.transpose() * R;
+  return -kp * (0.5 * so3::vee(E - E.transpose())) - kd * Omega;
+}
+
+TimeControl SceneReader::sinusoid(const SceneTable& t) const {
+  return Reader(file_).time_control(SceneTableAccess::get(t), t.path(), 3, fs::path(file_).parent_path());
+}
+TimeControl SceneReader::sinusoid2(const SceneTable& t) const {
+  return Reader(file_).time_control(SceneTableAccess::get(t), t.path(), 2, fs::path(file_).parent_path());
 }
 
 void SceneReader::fail_invalid(const std::string& prefix, const InvalidInput& e) const {
@@ -432,7 +752,12 @@ SceneError::SceneError(std::string file, std::string field, std::string reason)
       field_(std::move(field)),
       reason_(std::move(reason)) {}
 
-Vec3 Sinusoid::operator()(double t) const {
+Vec3 TimeControl::operator()(double t) const {
+  switch (kind) {
+    case Kind::Constant: return value;
+    case Kind::PiecewiseLinear: return (*samples)(t);
+    case Kind::Sinusoid: break;
+  }
   const Eigen::Array3d angle = 2.0 * M_PI * t * frequency.array() + phase.array();
   return amplitude.cwiseProduct(angle.sin().matrix());
 }
@@ -459,8 +784,11 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every) {
     throw InvalidInput("t_final", "is not a whole number of steps of h = " + format_number(h) +
                                       " (t_final / h = " + format_number(n) + ")");
   }
-  if (output_every < 1) {
-    throw InvalidInput("output_every", "must be an integer >= 1 (got " + std::to_string(output_every) + ")");
+  // Bounded by the step limit: a larger K writes the same two rows (first and last) as K = steps,
+  // and next_written + K stays far from overflow.
+  if (output_every < 1 || static_cast<double>(output_every) > kMaxSteps) {
+    throw InvalidInput("output_every", "must be an integer >= 1 and <= " + format_number(kMaxSteps) + " (got " +
+                                           std::to_string(output_every) + ")");
   }
   Horizon horizon;
   horizon.h = h;
@@ -470,14 +798,19 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every) {
   return horizon;
 }
 
+void check_toml_text(std::string_view text, const std::string& file, const std::string& kind) {
+  const Reader r(file);
+  if (text.size() > kMaxSceneBytes) {
+    r.fail("", "is larger than 1 MiB (more than " + std::to_string(kMaxSceneBytes) + " bytes); " + kind +
+                   " files take a few kB");
+  }
+  check_structure(text, r);
+}
+
 Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneOverrides& overrides) {
   const std::string file_name = file.string();
   const Reader r(file_name);
-  if (toml_text.size() > kMaxSceneBytes) {
-    r.fail("", "is larger than 1 MiB (more than " + std::to_string(kMaxSceneBytes) +
-                   " bytes); scene files take a few kB");
-  }
-  check_structure(toml_text, r);
+  check_toml_text(toml_text, file_name, "scene");
   toml::table doc;
   try {
     doc = toml::parse(toml_text, std::string_view(file_name));
@@ -488,7 +821,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   }
 
   // Unknown keys first, everywhere: a misspelt key is the likeliest cause of a missing one.
-  r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control"});
+  r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control", "ocp"});
   const std::string system = r.required(doc, "system", "", &Reader::string);
   std::string known;
   bool is_known = false;
@@ -503,6 +836,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   const toml::table* initial = r.table(doc, "initial", "", true);
   const toml::table* integration = r.table(doc, "integration", "", true);
   const toml::table* control = r.table(doc, "control", "", false);
+  const toml::table* ocp = r.table(doc, "ocp", "", false);
 
   // The system's tables, read by its binding (keys first, everywhere).
   const SceneReader reader(file_name);
@@ -512,7 +846,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
               read_model(reader, system, SceneTableAccess::make(*parameters, "parameters"),
                          SceneTableAccess::make(*initial, "initial"), SceneTableAccess::make(*integration, "integration"),
                          control_table),
-              Horizon{}, LgviForm::Symmetric};
+              Horizon{}, LgviForm::Symmetric, nullptr};
   if (const toml::node* d = doc.get("description")) scene.description = r.string(*d, "description");
 
   // [integration], with the command-line overrides named in messages.
@@ -540,6 +874,10 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
     for (std::size_t i = 0; i < notes.size(); ++i) field += (i == 0 ? " (" : ", ") + notes[i];
     if (!notes.empty()) field += ")";
     r.fail(field, reason_of(e));
+  }
+  if (ocp != nullptr) {
+    scene.ocp = read_ocp_table(reader, scene.model, SceneTableAccess::make(*parameters, "parameters"),
+                               SceneTableAccess::make(*ocp, "ocp"));
   }
   return scene;
 }

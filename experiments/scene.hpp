@@ -8,9 +8,11 @@
 //   description = "one line"                    (optional)
 //   [parameters], [initial], [control]   the system's own tables, read by its binding
 //                  (experiments/systems/<system>.hpp: check_keys, read), e.g.
-//                  free-body: [parameters] inertia; [initial] R (3x3 array of rows, default
-//                  identity), Omega; [control] amplitude, frequency, phase (3-vectors; phase
-//                  optional): u_i(t) = amplitude_i sin(2 pi frequency_i t + phase_i)
+//                  free-body: [parameters] inertia; [initial] R (3x3 array of rows), quaternion
+//                  ([w, x, y, z]) or euler ({sequence, angles}), default identity; Omega (body
+//                  frame) or omega_space; [control] type = "sinusoid" (amplitude, frequency,
+//                  phase), "constant" (value), "piecewise-linear" (file) or "pd" (kp, kd,
+//                  target): TimeControl, AttitudeFeedback
 //                  inertia = [J1, J2, J3] (principal moments) or a 3x3 array of arrays
 //   [integration]  h, t_final, form = "symmetric" | "printed" (default symmetric),
 //                  output_every (default 1)
@@ -34,6 +36,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -41,6 +44,7 @@
 #include <variant>
 #include <vector>
 
+#include "baselines/control.hpp"
 #include "lgvi/lgvi.hpp"
 #include "lgvi/multibody_lgvi.hpp"
 #include "lgvi/systems/dumbbell.hpp"
@@ -71,14 +75,37 @@ class SceneError : public std::runtime_error {
   std::string reason_;
 };
 
-/// Component-wise sinusoid u_i(t) = amplitude_i sin(2 pi frequency_i t + phase_i);
-/// frequency in cycles per unit time (Hz in SI scenes), phase in radians.
-struct Sinusoid {
+/// An open-loop control u(t) of a scene's [control] table (`type`):
+///  - Sinusoid (default): component-wise u_i(t) = amplitude_i sin(2 pi frequency_i t + phase_i);
+///    frequency in cycles per unit time (Hz in SI scenes), phase in radians.
+///  - Constant: u(t) = value.
+///  - PiecewiseLinear: linear interpolation of samples (t_j, u_j) read from a CSV file, the end
+///    values held outside [t_0, t_last] (baselines/control.hpp's SampledControl).
+/// Components a system does not use (the cart's third) stay 0.
+struct TimeControl {
+  enum class Kind { Sinusoid, Constant, PiecewiseLinear };
+  Kind kind = Kind::Sinusoid;
   Vec3 amplitude = Vec3::Zero();
   Vec3 frequency = Vec3::Zero();
   Vec3 phase = Vec3::Zero();
+  Vec3 value = Vec3::Zero();  ///< Constant
+  std::shared_ptr<const baselines::SampledControl<3>> samples;  ///< PiecewiseLinear
 
   Vec3 operator()(double t) const;
+};
+
+/// PD attitude feedback toward a constant target attitude R_d ([control] type = "pd"): the
+/// body-frame moment
+///     tau(R, Omega) = -kp e_R - kd Omega,   e_R = 1/2 vee(R_d^T R - R^T R_d),
+/// e_R = sin(theta) n for an attitude error R_d^T R = exp(theta hat(n)): the first-order part of
+/// log(R_d^T R), smooth on all of SO(3) (no branch at theta = pi). kp in N m (per unit e_R),
+/// kd in N m s.
+struct AttitudeFeedback {
+  Mat3 target = Mat3::Identity();
+  double kp = 0.0;
+  double kd = 0.0;
+
+  Vec3 moment(const Mat3& R, const Vec3& Omega) const;
 };
 
 // The state records in the paper's variables, one per kind of configuration space: a scene's
@@ -102,7 +129,8 @@ struct FreeBodyModel {
   static constexpr const char* name = "free-body";
   FreeRigidBody system;
   State initial;
-  std::optional<Sinusoid> control;  ///< body-frame moment
+  std::optional<TimeControl> control;  ///< body-frame moment
+  std::optional<AttitudeFeedback> feedback;  ///< body-frame moment tau(R, Omega) (instead of control)
 };
 
 struct PendulumModel {
@@ -110,7 +138,11 @@ struct PendulumModel {
   static constexpr const char* name = "pendulum";
   Pendulum3D system;
   State initial;
-  std::optional<Sinusoid> control;  ///< u of eq. 23; the applied moment is R^T e3 x u
+  std::optional<TimeControl> control;  ///< u of eq. 23; the applied moment is R^T e3 x u
+  /// Instead of control: u = tau x R^T e3 with tau the feedback's moment, so that the applied
+  /// moment R^T e3 x u is tau's part normal to the vertical (eq. 23's u cannot turn the pendulum
+  /// about the vertical).
+  std::optional<AttitudeFeedback> feedback;
 };
 
 struct DumbbellModel {
@@ -118,8 +150,8 @@ struct DumbbellModel {
   static constexpr const char* name = "dumbbell";
   DumbbellSpacecraft system;
   State initial;
-  std::optional<Sinusoid> force_control;   ///< u^f, inertial frame
-  std::optional<Sinusoid> moment_control;  ///< u^m, body frame
+  std::optional<TimeControl> force_control;   ///< u^f, inertial frame
+  std::optional<TimeControl> moment_control;  ///< u^m, body frame
 };
 
 struct CartPendulumInitial {
@@ -134,7 +166,7 @@ struct CartPendulumModel {
   static constexpr const char* name = "cart-pendulum";
   CartPendulum system;
   State initial;
-  std::optional<Sinusoid> control;  ///< cart forces (u_x, u_y) in components 1, 2; component 3 is 0
+  std::optional<TimeControl> control;  ///< cart forces (u_x, u_y) in components 1, 2; component 3 is 0
 };
 
 struct ConnectedBodiesInitial {
@@ -147,7 +179,7 @@ struct ConnectedBodiesModel {
   static constexpr const char* name = "connected-bodies";
   ConnectedBodies system;
   State initial;
-  std::optional<Sinusoid> control;  ///< internal moment u (inertial frame): +u on body 1, -u on body 2
+  std::optional<TimeControl> control;  ///< internal moment u (inertial frame): +u on body 1, -u on body 2
 };
 
 using Model = std::variant<FreeBodyModel, PendulumModel, DumbbellModel, CartPendulumModel,
@@ -165,9 +197,11 @@ struct Horizon {
 };
 
 /// Validates h > 0, t_final > 0 (finite), t_final a whole number of steps to 1e-9 relative,
-/// at most 1e12 steps, output_every >= 1. Throws InvalidInput with field "h", "t_final" or
+/// at most 1e12 steps, 1 <= output_every <= 1e12. Throws InvalidInput with field "h", "t_final" or
 /// "output_every".
 Horizon make_horizon(double h, double t_final, std::int64_t output_every);
+
+struct OcpDefinition;  // experiments/ocp_scene.hpp
 
 struct Scene {
   std::string name;            ///< the file's stem: "pendulum" for .../pendulum.toml
@@ -176,6 +210,8 @@ struct Scene {
   Model model;
   Horizon horizon;
   LgviForm form = LgviForm::Symmetric;
+  /// The [ocp] table (the optimal control problem), null when the scene has none.
+  std::shared_ptr<const OcpDefinition> ocp;
 
   const char* system() const { return system_name(model); }
 };

@@ -5,11 +5,14 @@
 // binding by the scene's `system`. toml++ stays inside scene.cpp: a table is an opaque handle.
 //
 // The shared pieces every binding uses the same way (so that a new input form is one change):
-// attitude() reads an attitude ("R", a rotation matrix, identity when absent), sinusoid() and
-// sinusoid2() a control, and attitude_keys() / kSinusoidKeys are their keys for check_keys.
+// attitude() reads an attitude (a rotation matrix "R", a unit quaternion "quaternion" or Euler
+// angles "euler"; identity when absent), body_rate() an angular velocity (body frame "Omega" or
+// space frame "omega_space"), sinusoid() and sinusoid2() a control, and attitude_keys() /
+// body_rate_keys() / kSinusoidKeys are their keys for check_keys.
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <cmath>
 #include <initializer_list>
 #include <optional>
@@ -58,18 +61,50 @@ class SceneReader {
   /// Principal moments [J1, J2, J3] (J = diag) or the full 3x3 matrix (rows).
   Mat3 inertia(const SceneTable& t, std::string_view key) const;
 
-  /// The attitude `key` of t (body to inertial): a 3x3 array of rows, identity when absent; its
-  /// orthonormality is checked by the flow's make_state (validate_initial_state).
-  Mat3 attitude(const SceneTable& t, std::string_view key) const;
-  /// The keys attitude(t, key) reads (for check_keys).
-  static std::vector<std::string_view> attitude_keys(std::string_view key) { return {key}; }
+  // Further typed values (the [ocp] table, experiments/ocp_scene.cpp). has() says whether `key`
+  // is present; the readers require it.
+  bool has(const SceneTable& t, std::string_view key) const;
+  std::string string(const SceneTable& t, std::string_view key) const;
+  std::int64_t integer(const SceneTable& t, std::string_view key) const;
+  bool boolean(const SceneTable& t, std::string_view key) const;
+  /// An array of exactly n numbers.
+  Eigen::VectorXd vector(const SceneTable& t, std::string_view key, int n) const;
+  /// An n x n matrix written as an array of its n rows.
+  Eigen::MatrixXd matrix(const SceneTable& t, std::string_view key, int n) const;
 
-  /// u_i(t) = amplitude_i sin(2 pi frequency_i t + phase_i) from t's amplitude, frequency and
-  /// (optional) phase, 3-vectors.
-  Sinusoid sinusoid(const SceneTable& t) const;
-  /// The same with 2-vectors (the cart's forces); the third component stays 0.
-  Sinusoid sinusoid2(const SceneTable& t) const;
-  static constexpr std::array<std::string_view, 3> kSinusoidKeys = {"amplitude", "frequency", "phase"};
+  /// The attitude `key` of t (body to inertial; key "R", "R1" or "R2", the digit the body's) from
+  /// at most one of: key itself, a 3x3 array of rows (its orthonormality is checked by the flow's
+  /// make_state, validate_initial_state); "quaternion<digit>", a unit quaternion [w, x, y, z]
+  /// (scalar first; |norm - 1| <= kQuaternionNormTolerance, then normalized); "euler<digit>", a
+  /// table {sequence, angles} (euler_rotation). Identity when none is given.
+  Mat3 attitude(const SceneTable& t, std::string_view key) const;
+  /// The keys attitude(t, key) reads (for check_keys): {"R", "quaternion", "euler"} for "R".
+  static std::vector<std::string_view> attitude_keys(std::string_view key);
+  static constexpr double kQuaternionNormTolerance = 1e-9;
+
+  /// The body-frame angular velocity `key` of t ("Omega", "Omega1", "Omega2"), required, from
+  /// exactly one of: key itself (body frame) or "omega_space<digit>" (space frame w, converted
+  /// to Omega = R^T w with the body's attitude R).
+  Vec3 body_rate(const SceneTable& t, std::string_view key, const Mat3& R) const;
+  /// The keys body_rate(t, key, R) reads: {"Omega", "omega_space"} for "Omega".
+  static std::vector<std::string_view> body_rate_keys(std::string_view key);
+
+  /// The open-loop control of table t, by its `type` (default "sinusoid"):
+  ///  "sinusoid": amplitude, frequency, (optional) phase; "constant": value; "piecewise-linear":
+  ///  file, a CSV of rows t, u1..u3 (path relative to the scene file's directory).
+  /// 3-vectors; sinusoid2() reads 2-vectors (the cart's forces), the third component 0.
+  TimeControl sinusoid(const SceneTable& t) const;
+  TimeControl sinusoid2(const SceneTable& t) const;
+  /// The keys of every control type (check_keys); time_control() and feedback() then refuse
+  /// the keys of another type.
+  static constexpr std::array<std::string_view, 11> kSinusoidKeys = {
+      "type", "amplitude", "frequency", "phase", "value", "file", "kp", "kd", "target", "target_quaternion",
+      "target_euler"};
+  /// t's `type` ("sinusoid" when absent).
+  std::string control_type(const SceneTable& t) const;
+  /// A [control] of type "pd": kp, kd (numbers >= 0) and the target attitude (target,
+  /// target_quaternion or target_euler, as attitude(); identity when absent).
+  AttitudeFeedback feedback(const SceneTable& t) const;
 
   /// Runs a physics constructor or validator f(), re-raising its InvalidInput as a SceneError on
   /// field prefix + its field ("parameters." + "inertia").
@@ -104,6 +139,15 @@ class SceneReader {
 
   std::string file_;
 };
+
+/// The rotation (body to inertial) of Euler angles [a1, a2, a3] (radians) about the axes of a
+/// 3-letter sequence: upper case is intrinsic (rotations about the body's axes, each after the
+/// previous), R = R_s1(a1) R_s2(a2) R_s3(a3); lower case is extrinsic (about the fixed axes, the
+/// first applied first), R = R_s3(a3) R_s2(a2) R_s1(a1). The 12 sequences without two equal
+/// neighbours of each case: Tait-Bryan XYZ XZY YXZ YZX ZXY ZYX, proper XYX XZX YXY YZY ZXZ ZYZ.
+/// "ZYX" is yaw-pitch-roll; intrinsic "ZYX" [a, b, c] equals extrinsic "xyz" [c, b, a].
+/// Throws InvalidInput("sequence", ...) for any other sequence.
+Mat3 euler_rotation(std::string_view sequence, const Vec3& angles);
 
 /// The keys of several lists, in order: concat_keys({SceneReader::attitude_keys("R"), {"Omega"}}).
 inline std::vector<std::string_view> concat_keys(std::initializer_list<std::vector<std::string_view>> lists) {

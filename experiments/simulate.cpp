@@ -1,6 +1,9 @@
 #include "experiments/simulate.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <limits>
+#include <system_error>
 
 #include "experiments/csv_writer.hpp"
 
@@ -20,6 +23,35 @@ std::string source_relative(const std::filesystem::path& file) {
   const auto rel = abs.lexically_relative(src);
   if (rel.empty() || *rel.begin() == "..") return file.string();
   return rel.string();
+}
+
+/// Fewest bytes a CSV value takes with its separator: a finite double in shortest round-trip form
+/// with more than one significant digit ("0.25,", "1e-05,") takes at least 5, and the values the
+/// recorder writes (times, attitudes, rates, errors) have 16-17 digits unless they are exactly
+/// representable short numbers; 5 makes the estimate below a lower bound of the file's size.
+constexpr double kMinBytesPerValue = 5.0;
+
+/// Refuses, before anything is written, a run whose CSV cannot fit in its file system: the rows
+/// (steps / output_every + 2) times the columns times kMinBytesPerValue exceed the space free
+/// where the file goes. Without it a 10^12-step scene written every step filled a disk (77 GB)
+/// before the short write stopped it. Streams ("-", devices) are not checked. Throws OutputError.
+void check_output_space(const std::filesystem::path& csv, const Horizon& horizon, std::size_t columns) {
+  std::error_code ec;
+  if (csv == "-") return;
+  const auto status = std::filesystem::status(csv, ec);
+  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) return;
+  const std::filesystem::path dir = csv.has_parent_path() ? csv.parent_path() : std::filesystem::path(".");
+  const std::filesystem::space_info space = std::filesystem::space(dir, ec);
+  if (ec) return;  // the writer reports a missing or unwritable directory itself
+  const double rows = std::floor(static_cast<double>(horizon.steps) / static_cast<double>(horizon.output_every)) + 2.0;
+  const double bytes = rows * static_cast<double>(columns) * kMinBytesPerValue;
+  if (bytes <= static_cast<double>(space.available)) return;
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "not enough space: the run writes %.3g rows of %zu values (at least %.3g bytes) and %.3g bytes are "
+                "free there; write every K-th step (integration.output_every, --every)",
+                rows, columns, bytes, static_cast<double>(space.available));
+  throw OutputError(csv.string() + ": " + text);
 }
 
 }  // namespace
@@ -106,7 +138,9 @@ RunSummary simulate(const Scene& scene, const Method& method, const SimulateOpti
   leading.insert(leading.end(), options.extra_metadata.begin(), options.extra_metadata.end());
 
   const bool quaternion_column = method.records_quaternion_norm();
-  CsvWriter csv(options.csv, Recorder::columns(scene.model, quaternion_column), leading);
+  std::vector<std::string> columns = Recorder::columns(scene.model, quaternion_column);
+  check_output_space(options.csv, scene.horizon, columns.size());
+  CsvWriter csv(options.csv, std::move(columns), leading);
   Recorder recorder(scene.model, scene.horizon.output_every, &csv, quaternion_column);
   s.stats = method.run(scene, recorder);
   recorder.finish();

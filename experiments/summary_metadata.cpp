@@ -33,6 +33,10 @@ const std::vector<std::pair<std::string, std::string>>& column_notes() {
       {"integrator_seconds_min", "minimum wall time per run, timed alone and repeated (s)"},
       {"integrator_seconds_median", "median wall time per run, timed alone and repeated (s)"},
       {"integrator_cpu_seconds", "minimum thread CPU time per run (s)"},
+      {"rss_before_mb", "resident memory of the process before the timed run (MiB, /proc/self/status VmRSS)"},
+      {"peak_rss_mb", "peak resident memory of the process during the timed run (MiB, VmHWM reset before it)"},
+      {"rss_growth_mb", "peak_rss_mb - rss_before_mb: the memory the run needed (MiB; flat in the steps when a step "
+                        "allocates nothing)"},
       {"case_seconds", "wall time of the whole case, files included (s)"},
       {"seconds", "wall time of computing the transition matrix (s)"},
       {"wall_seconds", "wall time of the solver (s)"},

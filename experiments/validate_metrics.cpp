@@ -487,9 +487,19 @@ constexpr int kConnectedBodiesConvergingStart = 6;
 void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
   ScratchDir scratch;
   const PaperValues& paper = paper_values();
-  for (const std::string system : {"pendulum", "dumbbell", "cart-pendulum", "connected-bodies"}) {
+  // The dumbbell also by the continuation globalization (issue 17: <= 40 outer iterations on the
+  // extremal Newton-Armijo finds), as "ocp/dumbbell-continuation/...".
+  struct Run {
+    const char* system;
+    const char* globalization;  ///< "" : the command's default
+  };
+  for (const Run run : {Run{"pendulum", ""}, Run{"dumbbell", ""}, Run{"dumbbell", "continuation"},
+                        Run{"cart-pendulum", ""}, Run{"connected-bodies", ""}}) {
+    const std::string system = run.system;
+    const std::string name = system + (*run.globalization ? std::string("-") + run.globalization : std::string());
     OcpCommand cmd;
     cmd.system = system;
+    if (*run.globalization) cmd.globalization = run.globalization;
     cmd.out = scratch.path.string();
     if (system == "connected-bodies" && options.quick) {
       cmd.starts = 1;
@@ -515,7 +525,9 @@ void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
     };
     const PaperExample& example = paper.example(system);
     const bool direct = is_direct_system(system);
-    std::string detail = "ocp " + system + (cmd.first_start > 0 ? " --starts 1 --first-start " +
+    std::string detail = "ocp " + system + (*run.globalization ? std::string(" --globalization ") + run.globalization
+                                                                : std::string()) +
+                         (cmd.first_start > 0 ? " --starts 1 --first-start " +
                                                                       std::to_string(cmd.first_start)
                                                                 : std::string()) +
                          ": exit " + std::to_string(code) + "; " +
@@ -524,7 +536,7 @@ void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
     const auto add = [&](const std::string& what, MetricKind kind, double value, std::optional<double> p,
                          double floor = 0.0) {
       Metric m;
-      m.name = "ocp/" + system + "/" + what;
+      m.name = "ocp/" + name + "/" + what;
       m.kind = kind;
       m.value = value;
       m.floor = floor;

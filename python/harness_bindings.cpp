@@ -30,6 +30,7 @@
 #include "experiments/csv_writer.hpp"
 #include "experiments/method.hpp"
 #include "experiments/ocp_command.hpp"
+#include "experiments/ocp_scene.hpp"
 #include "experiments/plot.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/simulate.hpp"
@@ -421,9 +422,12 @@ py::dict validate(bool quick, const std::vector<std::string>& only, const std::o
 py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
   ex::OcpCommand cmd;
   cmd.system = system;
-  if (system != "pendulum" && system != "dumbbell" && !ex::is_direct_system(system)) {
-    throw py::value_error("system: must be 'pendulum', 'dumbbell', 'cart-pendulum' or 'connected-bodies' (got '" +
-                          system + "')");
+  // The scene `ocp SYSTEM` runs (a paper example's name, a scene name or a path) names the files.
+  std::string label;
+  try {
+    label = ex::ocp_label(ex::load_scene(ex::resolve_ocp_scene(system, ex::default_scenes_dir())));
+  } catch (const std::exception& e) {
+    throw py::value_error(e.what());
   }
   std::optional<fs::path> keep;
   for (const auto& [key_handle, value] : kwargs) {
@@ -466,12 +470,13 @@ py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
     throw py::value_error(message);
   }
   const fs::path dir = cmd.out;
+  ex::verify_ocp_run(dir, label);
   py::dict result;
-  result["summary"] = json_loads(read_text(ex::ocp_output_file(dir, system, "summary.json")));
-  const fs::path trajectory = ex::ocp_output_file(dir, system, "trajectory.csv");
+  result["summary"] = json_loads(read_text(ex::ocp_output_file(dir, label, "summary.json")));
+  const fs::path trajectory = ex::ocp_output_file(dir, label, "trajectory.csv");
   if (fs::exists(trajectory)) result["trajectory"] = columns_dict(read_csv(trajectory));
-  result["history"] = columns_dict(read_csv(ex::ocp_output_file(dir, system, "history.csv")));
-  const fs::path knots = ex::ocp_output_file(dir, system, "knots.csv");
+  result["history"] = columns_dict(read_csv(ex::ocp_output_file(dir, label, "history.csv")));
+  const fs::path knots = ex::ocp_output_file(dir, label, "knots.csv");
   if (fs::exists(knots)) result["knots"] = columns_dict(read_csv(knots));
   result["converged"] = status == 0;
   result["out"] = keep ? py::cast(*keep) : py::object(py::none());
@@ -565,8 +570,9 @@ void bind_harness(py::module_& m) {
         "detail}], counts: {verdict: n}, regressed, table}. Accepting stays with the CLI.");
 
   m.def("solve_ocp", &solve_ocp, py::arg("system"),
-        "Optimal control, as `lgvi-testbed ocp SYSTEM`: 'pendulum', 'dumbbell' (indirect shooting) or "
-        "'cart-pendulum', 'connected-bodies' (direct method; solver='slsqp' or 'ipopt'). Keyword options are "
+        "Optimal control, as `lgvi-testbed ocp SYSTEM`: the paper's 'pendulum', 'dumbbell' (indirect shooting) or "
+        "'cart-pendulum', 'connected-bodies' (direct method; solver='slsqp' or 'ipopt'), or a scene with an [ocp] "
+        "table (a name or a path). Keyword options are "
         "the CLI's with underscores: form, h, steps, decomposition, merit, globalization, guess, "
         "max_iterations, t_final, sphere_radius, knots, spline, gradients, tolerance, starts, seed, "
         "first_start, solver, hessian, shooting_interval; out: keep the files in this directory. Returns "

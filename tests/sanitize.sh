@@ -41,7 +41,7 @@ exe="$dir/lgvi-testbed"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for scene in experiments/scenes/*.toml; do
-  "$exe" simulate "$scene" --t-final "$(awk -F'= *' '/^h *=/{print 20*$2; exit}' "$scene")" \
+  "$exe" simulate "$scene" --t-final "$(awk -F'= *' '/^h *=/{printf "%.17g", 20*$2; exit}' "$scene")" \
     --out "$work/$(basename "$scene" .toml).csv" >/dev/null
 done
 "$exe" simulate pendulum --t-final 0.5 --method cvode-bdf --model quaternion --out "$work/bdf.csv" >/dev/null

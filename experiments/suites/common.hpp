@@ -114,6 +114,8 @@ Suite momentum_suite(const SuiteParams& params);
 Suite work_precision_suite(const SuiteParams& params);
 Suite long_horizon_suite(const SuiteParams& params);
 Suite extremes_suite(const SuiteParams& params);
+/// 10^7 steps (quick 10^5) per system: conservation and resident memory (experiments/suites/soak.cpp).
+Suite soak_suite(const SuiteParams& params);
 /// Optimal control (experiments/suites/sensitivity.cpp, shooting.cpp).
 Suite sensitivity_suite(const SuiteParams& params);
 const std::vector<std::string>& sensitivity_columns();

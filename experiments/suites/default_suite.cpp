@@ -18,6 +18,8 @@ Suite default_suite(const SuiteParams& params) {
   s.columns.push_back("momentum_map");
   const MethodSpec lgvi("lgvi");
   for (const std::string& scene : scene_names(params.scenes_dir)) {
+    // An optimal control problem (a scene with an [ocp] table) is run by `ocp`, not simulated here.
+    if (load_scene(params.scenes_dir / (scene + ".toml")).ocp) continue;
     for (const LgviForm form : {LgviForm::Symmetric, LgviForm::Printed}) {
       SimulateSpec spec;
       spec.scene = scene;

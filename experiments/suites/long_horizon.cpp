@@ -1,17 +1,16 @@
-// "long-horizon": the LGVI's case for work and precision. Over a long horizon (10^4 s; quick
-// 10^3 s) each method runs the free body, the pendulum and the dumbbell at a sweep of steps h
-// from beyond the largest it tolerates downwards (fixed-step: LGVI orders 2, 4, 6, RK4 on
-// quaternions, renormalized quaternions and rotation matrices) or of tolerances rtol
-// (adaptive baselines), and reports the maximum energy error, momentum-map error and
-// orthogonality error over the horizon against its cost (integrator time, timed serially and
-// repeated: Job::timed; evaluations). Figures per scene: energy error vs time and vs
-// evaluations, momentum and orthogonality error vs time. Tables: the cheapest method per
-// energy-error and per momentum-error level, and each fixed-step method's largest completed step.
-#include <cmath>
-#include <cstdio>
+// "long-horizon": the LGVI's case for work and precision. Its cases are those of the study file
+// experiments/studies/long-horizon.toml (one definition; `lgvi-testbed study` runs the same file):
+// over a long horizon (10^4 s; quick 10^3 s) each method runs the free body, the pendulum and the
+// dumbbell at a sweep of steps h from beyond the largest it tolerates downwards (fixed-step: LGVI
+// orders 2, 4, 6, RK4 on quaternions, renormalized quaternions and rotation matrices; the two
+// largest steps are probes that may fail) or of tolerances rtol (adaptive baselines), timed
+// serially and repeated (Job::timed). This file draws the figures per scene (energy error vs time
+// and vs evaluations, momentum and orthogonality error vs time) and writes the tables: the cheapest
+// method per energy-error and per momentum-error level, and each fixed-step method's largest
+// completed step.
 #include <map>
 
-#include "baselines/solver.hpp"
+#include "experiments/study.hpp"
 #include "experiments/suites/common.hpp"
 
 namespace lgvi::experiments::suites {
@@ -19,46 +18,6 @@ namespace lgvi::experiments::suites {
 namespace fs = std::filesystem;
 
 namespace {
-
-/// A scene and the largest step of its sweep: past the largest step some methods tolerate (the
-/// rotation update's domain, or Newton's convergence from the linearized guess), measured over
-/// 10^3 s: pendulum (|Omega0| = 7.2 rad/s) LGVI order 2 and 6 complete at h = 0.1, order 4
-/// fails at the first step; free body (|Omega0| = 3 rad/s) order 6 completes at 0.4, order 2
-/// and 4 fail, at 0.2 order 4 fails; dumbbell (orbit period 2 pi, rod-axis inertia 0.001, so a
-/// small rotation-update domain) order 6 fails at step 2322 of h = 0.4, order 4 at 0.2.
-struct LongHorizonScene {
-  std::string scene;
-  double h_top;
-};
-
-const std::vector<LongHorizonScene> kScenes = {{"free-body", 0.4}, {"pendulum", 0.1}, {"dumbbell", 0.4}};
-
-/// The sweep's two largest steps are probes (Expectation::Either); smaller ones must complete.
-constexpr std::size_t kProbeLevels = 2;
-
-/// Samples per run: every K-th step with K = steps / kSamples (fixed-step), the output grid
-/// (adaptive). The maximum errors are taken over the samples (the baselines are sampled on the
-/// output grid only): measured over every step of the LGVI runs at 10^3 s, 1000 samples catch
-/// the maximum energy error to within 12% (dumbbell, order 6, h = 0.1: 0.886 of it; order 2:
-/// 0.93; pendulum 0.985-0.999), 500 samples to within 14%. The adaptive solvers without dense
-/// output stop at every output time, which caps their step at 1 s (quick), 10 s (full): above
-/// the steps they take on these scenes at the tolerances swept.
-constexpr std::size_t kSamples = 1000;
-
-std::vector<MethodSpec> fixed_methods(bool quick) {
-  std::vector<MethodSpec> m = lgvi_methods(quick);
-  for (const char* model : {"quaternion", "quaternion-renormalized", "matrix"}) {
-    m.push_back({"odeint-rk4", std::string(model), std::nullopt});
-  }
-  if (!quick) m.push_back({"gsl-rk4imp", "quaternion", std::nullopt});
-  return m;
-}
-
-std::string tag(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
 
 /// Levels of the cheapest-method tables.
 const std::vector<double> kLevels = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
@@ -108,50 +67,7 @@ std::string largest_step_table(const std::vector<std::pair<std::string, std::vec
 }  // namespace
 
 Suite long_horizon_suite(const SuiteParams& params) {
-  Suite s;
-  s.name = "long-horizon";
-  s.description = "energy, momentum and orthogonality error after 10^4 s (quick 10^3 s) vs cost, sweeping h and rtol";
-  s.columns = simulation_columns();
-  s.columns.insert(s.columns.end(), timing_columns().begin(), timing_columns().end());
-  s.columns.push_back("momentum_map");
-  const double t_final = params.quick ? 1e3 : 1e4;
-  const std::size_t levels = params.quick ? 4 : 8;  // h_top, h_top / 2, ..., h_top / 2^(levels - 1)
-  const std::vector<double> tolerances =
-      params.quick ? std::vector<double>{1e-6, 1e-8, 1e-10}
-                   : std::vector<double>{1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
-
-  for (const LongHorizonScene& sc : kScenes) {
-    for (const MethodSpec& m : fixed_methods(params.quick)) {
-      for (std::size_t k = 0; k < levels; ++k) {
-        const double h = sc.h_top / static_cast<double>(std::size_t{1} << k);
-        const auto steps = static_cast<std::size_t>(std::llround(t_final / h));
-        SimulateSpec spec;
-        spec.scene = sc.scene;
-        spec.overrides.t_final = t_final;
-        spec.overrides.h = h;
-        spec.overrides.output_every = static_cast<std::int64_t>(std::max<std::size_t>(1, steps / kSamples));
-        spec.timed = true;
-        s.cases.push_back(simulate_case(sc.scene + "-" + m.id() + "-h" + tag(h), sc.scene, spec, m,
-                                        k < kProbeLevels ? Expectation::Either : Expectation::Complete));
-      }
-    }
-    for (MethodSpec m : adaptive_sweep_methods(params.quick)) {
-      for (const double rtol : tolerances) {
-        m.rtol = rtol;
-        SimulateSpec spec;
-        spec.scene = sc.scene;
-        spec.overrides.t_final = t_final;
-        spec.overrides.h = t_final / static_cast<double>(kSamples);  // the output grid
-        spec.overrides.output_every = 1;
-        spec.timed = true;
-        char tol[16];
-        std::snprintf(tol, sizeof tol, "%.0e", rtol);
-        s.cases.push_back(
-            simulate_case(sc.scene + "-" + m.id() + "-rtol" + tol, sc.scene, spec, m, Expectation::Complete));
-      }
-    }
-  }
-
+  Suite s = load_study(default_studies_dir() / "long-horizon.toml", params);
   s.render = [](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
     std::vector<fs::path> files;
     const auto groups = by_group(rows);

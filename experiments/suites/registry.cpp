@@ -24,6 +24,8 @@ const std::vector<SuiteEntry>& suite_registry() {
        suites::long_horizon_suite},
       {"extremes", "where methods break: large h|Omega|, fast spin, near-flat inertia, tiny steps, gimbal lock",
        suites::extremes_suite},
+      {"soak", "10^7 steps (quick 10^5) of the symmetric LGVI per system: conservation and peak resident memory",
+       suites::soak_suite},
       {"sensitivity", "transition matrices: LGVI linearization and CVODES vs finite differences and each other, over T",
        suites::sensitivity_suite},
       {"shooting", "indirect optimal control: convergence histories and condition numbers, discrete vs continuous, "

@@ -1,5 +1,7 @@
 // "shooting": convergence histories and condition numbers of the indirect optimal-control
-// solvers on the paper's transfers (TransferProblem::pendulum_paper(), dumbbell_paper()):
+// solvers on the paper's transfers (the shipped scenes experiments/scenes/ocp-pendulum.toml,
+// ocp-dumbbell.toml, ocp-cart-pendulum.toml; the system's part is its ocp binding,
+// experiments/systems/ocp.hpp):
 //   discrete    Newton-Armijo shooting on the initial multiplier of the discrete necessary
 //               conditions (lgvi/ocp/indirect.hpp), symmetric and printed LGVI, with and
 //               without the pendulum's symmetry decomposition;
@@ -8,8 +10,9 @@
 //               solver's documented guess (all ones), from zero, and from the discrete solution
 //               (continuous_costate_from_discrete); the dumbbell's from its discrete symmetric
 //               solution, with the comparison (cost, multipliers, violations) in the table;
-//   globalizations  the dumbbell's discrete shooting by Newton-Armijo, the Newton homotopy,
-//               Levenberg-Marquardt and the non-monotone momentum-merit Armijo test;
+//   globalizations  the dumbbell's discrete shooting by Newton-Armijo, the Newton homotopy, the
+//               continuation (Hermite predictor, Broyden corrector), Levenberg-Marquardt and the
+//               non-monotone momentum-merit Armijo test;
 //   direct      spline controls + SLSQP on the cart-pendulum transfer of section 4.1
 //               (lgvi/ocp/direct.hpp; one start from the default guess): its SQP iterates' history
 //               (no Newton matrix, so no condition numbers).
@@ -32,13 +35,13 @@
 
 #include "baselines/pontryagin.hpp"
 #include "experiments/csv_writer.hpp"
+#include "experiments/ocp_scene.hpp"
 #include "experiments/simulate.hpp"
 #include "experiments/suites/common.hpp"
+#include "experiments/system_bindings.hpp"
+#include "experiments/systems/ocp.hpp"
 #include "lgvi/ocp/direct.hpp"
 #include "lgvi/ocp/indirect.hpp"
-#include "lgvi/systems/cart_pendulum.hpp"
-#include "lgvi/systems/dumbbell.hpp"
-#include "lgvi/systems/pendulum.hpp"
 
 namespace lgvi::experiments::suites {
 
@@ -60,8 +63,35 @@ const char* guess_name(Guess g) {
   return "?";
 }
 
+/// The shipped ocp scene of an example (`ocp NAME`: experiments/scenes/ocp-NAME.toml).
+Scene example_scene(const std::string& example) {
+  return load_scene(resolve_ocp_scene(example, default_scenes_dir()));
+}
+
+/// Whether the example's indirect model has a symmetry (the decomposition applies).
+bool has_symmetry(const std::string& example) {
+  const Scene scene = example_scene(example);
+  return visit_binding(scene.model, [](auto, const auto& m) {
+    using B = OcpBinding<std::decay_t<decltype(m)>>;
+    if constexpr (B::indirect) {
+      return B::IndirectModel::has_symmetry;
+    } else {
+      return false;
+    }
+  });
+}
+
+/// The violation axis label of the example's system (its ocp binding).
+std::string violation_label(const std::string& example) {
+  const Scene scene = example_scene(example);
+  return visit_binding(scene.model, [](auto, const auto& m) {
+    return std::string(OcpBinding<std::decay_t<decltype(m)>>::violation_label);
+  });
+}
+
 struct ShootingSpec {
-  std::string system;  ///< "pendulum", "dumbbell" (indirect) or "cart-pendulum" (direct)
+  std::string system;  ///< the example (an ocp scene, `ocp NAME`): "pendulum", "dumbbell" (indirect), "cart-pendulum" (direct)
+  bool symmetric = false;  ///< the example's indirect model has a symmetry (set by the suite from the binding)
   Solver solver = Solver::Discrete;
   LgviForm form = LgviForm::Symmetric;  ///< discrete; and of the discrete solution a continuous run starts from
   std::size_t steps = 1000;             ///< discrete (and the discrete solution's)
@@ -72,6 +102,10 @@ struct ShootingSpec {
   ocp::Globalization globalization = ocp::Globalization::NewtonArmijo;  ///< discrete
   ocp::Merit merit = ocp::Merit::Velocity;                              ///< discrete
   int nonmonotone_memory = 1;                                           ///< discrete
+  /// The discrete solution a continuous run starts from (Guess::DiscreteSolution): its guess and
+  /// globalization.
+  Guess start_guess = Guess::Ones;
+  ocp::Globalization start_globalization = ocp::Globalization::NewtonArmijo;
 
   /// Legend text; no commas (labels are summary.csv cells).
   std::string label() const {
@@ -80,9 +114,10 @@ struct ShootingSpec {
                         ? std::string("discrete ") + (form == LgviForm::Symmetric ? "symmetric" : "printed") +
                               " LGVI N = " + std::to_string(steps)
                         : "continuous CVODES rtol " + shortest(rtol);
-    if (system == "pendulum") l += decomposition ? "; decomposed" : "; not decomposed";
+    if (symmetric) l += decomposition ? "; decomposed" : "; not decomposed";
     if (globalization == ocp::Globalization::LevenbergMarquardt) l += "; Levenberg-Marquardt";
     if (globalization == ocp::Globalization::Homotopy) l += "; Newton homotopy";
+    if (globalization == ocp::Globalization::Continuation) l += "; continuation";
     if (merit == ocp::Merit::Momentum) l += "; momentum merit";
     if (nonmonotone_memory > 1) l += "; non-monotone " + std::to_string(nonmonotone_memory);
     return l + "; from " + guess_name(guess);
@@ -97,16 +132,17 @@ struct ShootingSpec {
       std::snprintf(buf, sizeof buf, "rtol%.0e-", rtol);
       i += buf;
     }
-    if (system == "pendulum") i += decomposition ? "decomposed-" : "full-";
+    if (symmetric) i += decomposition ? "decomposed-" : "full-";
     if (globalization == ocp::Globalization::LevenbergMarquardt) i += "lm-";
     if (globalization == ocp::Globalization::Homotopy) i += "homotopy-";
+    if (globalization == ocp::Globalization::Continuation) i += "continuation-";
     if (merit == ocp::Merit::Momentum) i += "momentum-";
     if (nonmonotone_memory > 1) i += "nm" + std::to_string(nonmonotone_memory) + "-";
     return i + guess_name(guess);
   }
 };
 
-ocp::ShootingOptions discrete_options(const ShootingSpec& s, const ocp::TransferProblem& problem) {
+ocp::ShootingOptions discrete_options(const ShootingSpec& s, const ocp::TransferProblem& problem, int n) {
   ocp::ShootingOptions o;
   o.form = s.form;
   o.h = problem.t_final / static_cast<double>(s.steps);
@@ -115,7 +151,6 @@ ocp::ShootingOptions discrete_options(const ShootingSpec& s, const ocp::Transfer
   o.globalization = s.globalization;
   o.merit = s.merit;
   o.nonmonotone_memory = s.nonmonotone_memory;
-  const int n = s.system == "pendulum" ? 6 : 12;
   o.initial_multiplier = s.guess == Guess::Ones ? Eigen::VectorXd::Ones(n) : Eigen::VectorXd::Zero(n);
   return o;
 }
@@ -160,18 +195,22 @@ class ShootingJob final : public Job {
   explicit ShootingJob(ShootingSpec spec) : spec_(std::move(spec)) {}
 
   void validate(const fs::path&) const override {
-    if ((spec_.solver == Solver::Direct) != (spec_.system == "cart-pendulum") ||
-        (spec_.system != "pendulum" && spec_.system != "dumbbell" && spec_.system != "cart-pendulum")) {
-      throw InvalidInput("system", "shooting cases: pendulum or dumbbell (indirect), cart-pendulum (direct); got '" +
-                                       spec_.system + "'");
+    const Scene scene = example_scene(spec_.system);  // SceneError for an unknown example
+    if (!scene.ocp || (spec_.solver == Solver::Direct) != (scene.ocp->method == OcpMethod::Direct)) {
+      throw InvalidInput("system", "shooting cases: an ocp scene solved by the " +
+                                       std::string(spec_.solver == Solver::Direct ? "direct" : "indirect") +
+                                       " method; got '" + spec_.system + "'");
     }
     if (spec_.steps == 0 || !(spec_.rtol > 0.0)) throw InvalidInput("shooting", "steps and rtol must be positive");
   }
 
-  JobResult run(const JobContext& ctx) const override {
-    if (spec_.solver == Solver::Direct) return run_direct(ctx);
+ private:
+  template <class B, class M>
+  JobResult run_indirect(const JobContext& ctx, const Scene& scene, const M& m) const {
+    using Model = typename B::IndirectModel;
+    const int n = 2 * Model::nq;
     const ocp::TransferProblem problem =
-        spec_.system == "pendulum" ? ocp::TransferProblem::pendulum_paper() : ocp::TransferProblem::dumbbell_paper();
+        B::transfer(m, std::get<typename M::State>(scene.ocp->target), scene.horizon.t_final);
     Fields f = {{"system", spec_.system},
                 {"label", spec_.label()},
                 {"solver", std::string(spec_.solver == Solver::Discrete ? "discrete" : "continuous")},
@@ -185,16 +224,16 @@ class ShootingJob final : public Job {
     std::string count_name = "sweeps";
     std::optional<ocp::ShootingSummary> start;  // the discrete solution a continuous run starts from
     if (spec_.solver == Solver::Discrete) {
-      const ocp::ShootingOptions o = discrete_options(spec_, problem);
+      ocp::ShootingOptions o = discrete_options(spec_, problem, n);
+      o.W = scene.ocp->indirect.W;
       f.push_back({"form", std::string(to_string(spec_.form))});
       f.push_back({"h", o.h});
       f.push_back({"steps", static_cast<std::int64_t>(spec_.steps)});
-      S = spec_.system == "pendulum" ? ocp::solve_indirect(Pendulum3D::paper(), problem, o).summary
-                                     : ocp::solve_indirect(DumbbellSpacecraft::paper(), problem, o).summary;
+      S = ocp::solve_indirect(B::system(m), problem, o).summary;
       f.push_back({"tolerance", o.tolerance});
+    } else if constexpr (!B::continuous) {
+      throw InvalidInput("solver", "'" + spec_.system + "' has no continuous (Pontryagin) shooting");
     } else {
-      const bool dumbbell = spec_.system == "dumbbell";
-      const int n = dumbbell ? 12 : 6;
       baselines::ContinuousShootingOptions o;
       o.integration.rtol = spec_.rtol;
       o.decomposition = spec_.decomposition;
@@ -202,23 +241,23 @@ class ShootingJob final : public Job {
       if (spec_.guess == Guess::Ones) {
         o.initial_costate = Eigen::VectorXd::Ones(n);
       } else if (spec_.guess == Guess::DiscreteSolution) {
-        // The discrete solution of the same form and N: the pendulum from its documented guess, the
-        // dumbbell from zero by the Newton homotopy (Newton-Armijo's extremal, 1.3906 symmetric).
+        // The discrete solution of the same form and N, from the case's start guess by its start
+        // globalization (the pendulum: all ones, Newton-Armijo; the dumbbell: zero, the Newton
+        // homotopy, which reaches Newton-Armijo's extremal, 1.3906 symmetric; the continuation
+        // reaches the same extremal but stalls at 1.6e-12 on the symmetric form).
         ShootingSpec d = spec_;
         d.solver = Solver::Discrete;
-        d.guess = dumbbell ? Guess::Zero : Guess::Ones;
+        d.guess = spec_.start_guess;
         d.decomposition = true;
-        d.globalization = dumbbell ? ocp::Globalization::Homotopy : ocp::Globalization::NewtonArmijo;
-        const ocp::ShootingOptions od = discrete_options(d, problem);
-        start = dumbbell ? ocp::solve_indirect(DumbbellSpacecraft::paper(), problem, od).summary
-                         : ocp::solve_indirect(Pendulum3D::paper(), problem, od).summary;
+        d.globalization = spec_.start_globalization;
+        ocp::ShootingOptions od = discrete_options(d, problem, n);
+        od.W = scene.ocp->indirect.W;
+        start = ocp::solve_indirect(B::system(m), problem, od).summary;
         if (!start->converged()) {
           return {false, "start-failed", "the discrete solution to start from: " + start->brief(), f};
         }
-        // The discrete lambda_0 is the multiplier of s_0 on the continuous costate's coordinates
-        // (baselines/pontryagin.hpp, continuous_costate_from_discrete): the identity.
-        o.initial_costate = dumbbell ? Eigen::VectorXd(start->multiplier)
-                                     : Eigen::VectorXd(baselines::continuous_costate_from_discrete(start->multiplier));
+        // The discrete lambda_0 on the continuous costate's coordinates (baselines/pontryagin.hpp).
+        o.initial_costate = B::continuous_costate(start->multiplier);
         f.push_back({"start", d.label() + ": " + start->brief()});
       }
       const auto record = [&](const auto& r) {
@@ -229,22 +268,18 @@ class ShootingJob final : public Job {
         f.push_back({"integration_steps", static_cast<std::int64_t>(r.integration_steps)});
         f.push_back({"rhs_evaluations", static_cast<std::int64_t>(r.rhs_evaluations)});
       };
-      if (dumbbell) {
-        record(baselines::solve_pontryagin(DumbbellSpacecraft::paper(), problem, o));
-      } else {
-        record(baselines::solve_pontryagin(Pendulum3D::paper(), problem, o));
-      }
+      record(B::solve_continuous(m, problem, o));
       count_name = "integrations";
       if (start && S.multiplier.size() == start->multiplier.size()) {
-        // Continuous against discrete: cost, initial multipliers (the pendulum's arbitrary component
-        // along its symmetry direction v_g = dC(s_0) removed from both), terminal violations.
+        // Continuous against discrete: cost, initial multipliers (a symmetric system's arbitrary
+        // component along its symmetry direction v_g = dC(s_0) removed from both), terminal violations.
         Eigen::VectorXd dl = S.multiplier - start->multiplier;
         Eigen::VectorXd lc = S.multiplier;
-        if (!dumbbell) {
-          const Eigen::VectorXd v_g =
-              ocp::PendulumModel::conserved_gradient(
-                  AttitudeState{problem.R0, Pendulum3D::paper().inertia.J * problem.Omega0, Vec3::Zero()})
-                  .normalized();
+        if constexpr (Model::has_symmetry) {
+          const ocp::StateMultiplierFlow<Model> flow(B::system(m), problem, spec_.form,
+                                                     problem.t_final / static_cast<double>(spec_.steps),
+                                                     scene.ocp->indirect.W);
+          const Eigen::VectorXd v_g = Model::conserved_gradient(flow.initial_state()).normalized();
           dl -= v_g * v_g.dot(dl);
           lc -= v_g * v_g.dot(lc);
         }
@@ -284,13 +319,14 @@ class ShootingJob final : public Job {
     return out;
   }
 
- private:
-  JobResult run_direct(const JobContext& ctx) const {
-    const ocp::CartPendulumTransfer problem = ocp::CartPendulumTransfer::paper();
+  template <class B, class M>
+  JobResult run_direct(const JobContext& ctx, const Scene& scene, const M& m) const {
+    const auto problem = B::transfer(m, std::get<typename M::State>(scene.ocp->target), scene.horizon.t_final);
     ocp::DirectOptions o;
     o.h = problem.t_final / static_cast<double>(spec_.steps);
     o.starts = 1;
-    const ocp::DirectSummary S = ocp::solve_direct(CartPendulum::paper(), problem, o).summary;
+    o.W = scene.ocp->direct.W;
+    const ocp::DirectSummary S = ocp::solve_direct(B::system(m), problem, o).summary;
     Fields f = {{"system", spec_.system},
                 {"label", spec_.label()},
                 {"solver", std::string("direct")},
@@ -318,6 +354,23 @@ class ShootingJob final : public Job {
   }
 
   ShootingSpec spec_;
+
+ public:
+  // Defined after the member templates it calls: clang 14 does not instantiate member templates
+  // first used in a generic lambda ahead of their definition (an undefined reference at link).
+  JobResult run(const JobContext& ctx) const override {
+    const Scene scene = example_scene(spec_.system);
+    return visit_binding(scene.model, [&](auto, const auto& m) -> JobResult {
+      using B = OcpBinding<std::decay_t<decltype(m)>>;
+      if constexpr (B::direct) {
+        return run_direct<B>(ctx, scene, m);
+      } else if constexpr (B::indirect) {
+        return run_indirect<B>(ctx, scene, m);
+      } else {
+        throw InvalidInput("system", "'" + spec_.system + "' has no optimal control method");
+      }
+    });
+  }
 };
 
 }  // namespace
@@ -334,7 +387,8 @@ Suite shooting_suite(const SuiteParams& params) {
                "cond_full_max", "first_cond_full", "wall_seconds", "globalization", "discrete_cost",
                "discrete_violation", "discrete_iterations", "cost_difference", "multiplier_difference", "csv_path"};
   const bool quick = params.quick;
-  const auto add = [&](const ShootingSpec& spec, Expectation e) {
+  const auto add = [&](ShootingSpec spec, Expectation e) {
+    spec.symmetric = has_symmetry(spec.system);
     SuiteCase c;
     c.id = spec.id();
     c.group = spec.system;
@@ -385,10 +439,11 @@ Suite shooting_suite(const SuiteParams& params) {
   // Dumbbell (no symmetry; lgvi/ocp/README.md). Discrete, printed form, from the uncontrolled
   // motion (zero multiplier): 100 steps by Newton-Armijo (0.4 s), and the command's default 1000
   // steps by the globalizations side by side: Newton-Armijo (the paper's, ~180 outer iterations,
-  // extremal 1.3909), the Newton homotopy (the same extremal, ~70), Levenberg-Marquardt (extremal
-  // 1.427, ~130) and the non-monotone Armijo test on the momentum merit (extremal 1.427, ~25; issue
-  // 17's <= 40). Continuous (CVODES, baselines/pontryagin.hpp): from the discrete symmetric N = 1000
-  // solution, compared with it (cost, multipliers, violations).
+  // extremal 1.3909), the Newton homotopy (the same extremal, ~70), the continuation (the same
+  // extremal, ~35, within the target of 40), Levenberg-Marquardt (extremal 1.427, ~130) and the
+  // non-monotone Armijo test on the momentum merit (extremal 1.427, ~25). Continuous (CVODES,
+  // baselines/pontryagin.hpp): from the discrete symmetric N = 1000 solution, compared with it
+  // (cost, multipliers, violations).
   {
     ShootingSpec d;
     d.system = "dumbbell";
@@ -401,6 +456,8 @@ Suite shooting_suite(const SuiteParams& params) {
     add(d, Expectation::Either);
     d.globalization = ocp::Globalization::Homotopy;
     add(d, Expectation::Either);
+    d.globalization = ocp::Globalization::Continuation;
+    add(d, Expectation::Either);
     d.globalization = ocp::Globalization::LevenbergMarquardt;
     add(d, Expectation::Either);
     d.globalization = ocp::Globalization::NewtonArmijo;
@@ -411,7 +468,7 @@ Suite shooting_suite(const SuiteParams& params) {
       d.form = LgviForm::Symmetric;
       d.merit = ocp::Merit::Velocity;
       d.nonmonotone_memory = 1;
-      d.globalization = ocp::Globalization::Homotopy;
+      d.globalization = ocp::Globalization::Continuation;
       add(d, Expectation::Either);
     }
     ShootingSpec c;
@@ -426,6 +483,8 @@ Suite shooting_suite(const SuiteParams& params) {
     // (cost O(h^2), multipliers) is the point.
     c.rtol = 1e-12;
     c.guess = Guess::DiscreteSolution;
+    c.start_guess = Guess::Zero;
+    c.start_globalization = ocp::Globalization::Homotopy;
     add(c, Expectation::Either);
   }
 
@@ -434,9 +493,7 @@ Suite shooting_suite(const SuiteParams& params) {
     for (const auto& [system, members] : by_group(rows)) {
       files.push_back(plot_iterations(ctx, system + "-violation.png",
                                       system + ": terminal violation against the outer iteration",
-                                      system == "pendulum"       ? "|r| = |[log(R_f^T R(T)); Ω(T) - Ω_f]| [rad, rad/s]"
-                                      : system == "cart-pendulum" ? "|terminal constraints| [rad, m, rad/s, m/s]"
-                                                                  : "|r| [normalized: rad, length, rad/time, length/time]",
+                                      violation_label(system),
                                       "violation", members));
       const bool has_conditions = std::any_of(members.begin(), members.end(),
                                               [](const SummaryRow* r) { return r->number("cond_max").has_value(); });

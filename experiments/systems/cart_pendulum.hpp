@@ -17,11 +17,11 @@ struct SystemBinding<CartPendulumModel> {
   using State = M::State;
   static constexpr bool single_body = false;
 
-  /// [parameters]: cart_mass, mass, inertia, d, gravity; [initial]: R (default identity),
+  /// [parameters]: cart_mass, mass, inertia, d, gravity; [initial]: R/quaternion/euler (default identity),
   /// Omega, q, q_dot; [control]: a 2-component sinusoid (the cart's forces u_x, u_y).
   static void check_keys(const SceneReader& r, const SceneTable& parameters, const SceneTable& initial) {
     r.check_keys(parameters, {"cart_mass", "mass", "inertia", "d", "gravity"});
-    r.check_keys(initial, concat_keys({SceneReader::attitude_keys("R"), {"Omega", "q", "q_dot"}}));
+    r.check_keys(initial, concat_keys({SceneReader::attitude_keys("R"), SceneReader::body_rate_keys("Omega"), {"q", "q_dot"}}));
   }
   static void check_control_keys(const SceneReader& r, const SceneTable& control) {
     r.check_keys(control, SceneReader::kSinusoidKeys);
@@ -35,7 +35,7 @@ struct SystemBinding<CartPendulumModel> {
     const double g = r.number(parameters, "gravity");
     State init;
     init.R = r.attitude(initial, "R");
-    init.Omega = r.vec3(initial, "Omega");
+    init.Omega = r.body_rate(initial, "Omega", init.R);
     init.q = r.vec2(initial, "q");
     init.q_dot = r.vec2(initial, "q_dot");
     M m{r.physics("parameters.", [&] { return CartPendulum(cart_mass, mass, J, d, g); }), init, {}};

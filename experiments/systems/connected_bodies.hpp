@@ -18,12 +18,13 @@ struct SystemBinding<ConnectedBodiesModel> {
   using State = M::State;
   static constexpr bool single_body = false;
 
-  /// [parameters]: mass1, inertia1, d1, mass2, inertia2, d2; [initial]: R1, R2 (default
+  /// [parameters]: mass1, inertia1, d1, mass2, inertia2, d2; [initial]: R1, R2 or quaternion1/2, euler1/2 (default
   /// identity), Omega1, Omega2; [control]: a sinusoid (the internal moment, inertial frame).
   static void check_keys(const SceneReader& r, const SceneTable& parameters, const SceneTable& initial) {
     r.check_keys(parameters, {"mass1", "inertia1", "d1", "mass2", "inertia2", "d2"});
     r.check_keys(initial,
-                 concat_keys({SceneReader::attitude_keys("R1"), SceneReader::attitude_keys("R2"), {"Omega1", "Omega2"}}));
+                 concat_keys({SceneReader::attitude_keys("R1"), SceneReader::attitude_keys("R2"),
+                              SceneReader::body_rate_keys("Omega1"), SceneReader::body_rate_keys("Omega2")}));
   }
   static void check_control_keys(const SceneReader& r, const SceneTable& control) {
     r.check_keys(control, SceneReader::kSinusoidKeys);
@@ -39,8 +40,8 @@ struct SystemBinding<ConnectedBodiesModel> {
     State init;
     init.R1 = r.attitude(initial, "R1");
     init.R2 = r.attitude(initial, "R2");
-    init.Omega1 = r.vec3(initial, "Omega1");
-    init.Omega2 = r.vec3(initial, "Omega2");
+    init.Omega1 = r.body_rate(initial, "Omega1", init.R1);
+    init.Omega2 = r.body_rate(initial, "Omega2", init.R2);
     M m{r.physics("parameters.", [&] { return ConnectedBodies(m1, J1, d1, m2, J2, d2); }), init, {}};
     if (control) m.control = r.sinusoid(*control);
     r.validate_initial_state(ConnectedBodiesLgvi(m.system), m.system.energy(init.R1, init.R2, init.Omega1, init.Omega2),

@@ -16,12 +16,12 @@ struct SystemBinding<DumbbellModel> {
   using State = M::State;
   static constexpr bool single_body = true;
 
-  /// [parameters]: mass, mu, rho, sphere_radius (J follows); [initial]: R (default identity),
+  /// [parameters]: mass, mu, rho, sphere_radius (J follows); [initial]: R/quaternion/euler (default identity),
   /// Omega, x, v; [control]: sub-tables force (inertial frame) and moment (body frame), each a
   /// sinusoid.
   static void check_keys(const SceneReader& r, const SceneTable& parameters, const SceneTable& initial) {
     r.check_keys(parameters, {"mass", "mu", "rho", "sphere_radius"});
-    r.check_keys(initial, concat_keys({SceneReader::attitude_keys("R"), {"Omega", "x", "v"}}));
+    r.check_keys(initial, concat_keys({SceneReader::attitude_keys("R"), SceneReader::body_rate_keys("Omega"), {"x", "v"}}));
   }
   static void check_control_keys(const SceneReader& r, const SceneTable& control) {
     r.check_keys(control, {"force", "moment"});
@@ -39,7 +39,7 @@ struct SystemBinding<DumbbellModel> {
     const double radius = r.number(parameters, "sphere_radius");
     State init;
     init.R = r.attitude(initial, "R");
-    init.Omega = r.vec3(initial, "Omega");
+    init.Omega = r.body_rate(initial, "Omega", init.R);
     init.x = r.vec3(initial, "x");
     init.v = r.vec3(initial, "v");
     M m{r.physics("parameters.", [&] { return DumbbellSpacecraft(mass, mu, rho, radius); }), init, {}, {}};

@@ -10,7 +10,7 @@ template <>
 struct SystemBinding<FreeBodyModel> : AttitudeBinding<FreeBodyModel> {
   static constexpr std::array<std::string_view, 1> kParameterKeys = {"inertia"};
   /// No potential: the printed form is the symmetric one unless a control acts.
-  static int printed_order(const FreeBodyModel& m) { return m.control ? 1 : 2; }
+  static int printed_order(const FreeBodyModel& m) { return controlled(m) ? 1 : 2; }
   static FreeRigidBody read_parameters(const SceneReader& r, const SceneTable& parameters) {
     const Mat3 J = r.inertia(parameters, "inertia");
     return r.physics("parameters.", [&] { return FreeRigidBody(J); });
@@ -25,7 +25,7 @@ struct SystemBinding<FreeBodyModel> : AttitudeBinding<FreeBodyModel> {
   /// The closed form (Celledoni et al. 2008) when uncontrolled; else nullopt and the reason.
   /// Throws InvalidInput for an initial state the closed form rejects (a separatrix).
   static std::optional<ExactReference> exact_solution(const FreeBodyModel& m, std::string& why_not) {
-    if (m.control) {
+    if (controlled(m)) {
       why_not = "the free body is controlled";
       return std::nullopt;
     }

@@ -29,7 +29,7 @@ struct SystemBinding<PendulumModel> : AttitudeBinding<PendulumModel> {
   /// body's when there is no gravity torque); else nullopt and the reason. Throws InvalidInput
   /// for an initial state the closed form rejects.
   static std::optional<ExactReference> exact_solution(const PendulumModel& m, std::string& why_not) {
-    if (m.control) {
+    if (controlled(m)) {
       why_not = "the pendulum is controlled";
       return std::nullopt;
     }

@@ -182,12 +182,20 @@ ShootingStateGuess parse_shooting_state_guess(const std::string& name) {
   throw InvalidInput("state_guess", "must be 'simulated' or 'geodesic' (got '" + name + "')");
 }
 
-const char* to_string(IpoptHessian h) { return h == IpoptHessian::LimitedMemory ? "limited-memory" : "cost"; }
+const char* to_string(IpoptHessian h) {
+  switch (h) {
+    case IpoptHessian::LimitedMemory: return "limited-memory";
+    case IpoptHessian::CostOnly: return "cost";
+    case IpoptHessian::Exact: return "exact";
+  }
+  return "unknown";
+}
 
 IpoptHessian parse_ipopt_hessian(const std::string& name) {
   if (name == "limited-memory") return IpoptHessian::LimitedMemory;
   if (name == "cost") return IpoptHessian::CostOnly;
-  throw InvalidInput("hessian", "must be 'limited-memory' or 'cost' (got '" + name + "')");
+  if (name == "exact") return IpoptHessian::Exact;
+  throw InvalidInput("hessian", "must be 'limited-memory', 'cost' or 'exact' (got '" + name + "')");
 }
 
 const char* to_string(DirectStatus s) {

@@ -158,9 +158,12 @@ DirectSolver parse_direct_solver(const std::string& name);
 
 /// The Hessian of the Lagrangian IPOPT uses. LimitedMemory: IPOPT's L-BFGS. CostOnly: the
 /// exact Hessian of the cost, the constraints' curvature left out (generalized Gauss-Newton).
-enum class IpoptHessian { LimitedMemory, CostOnly };
+/// Exact: the Hessian of the Lagrangian sigma J + y^T g, by forward differences of its exact
+/// gradient sigma grad J + Jac(g)^T y (the step linearizations' exact first derivatives), one
+/// colour group of columns per difference (direct_ipopt.cpp); not analytic second derivatives.
+enum class IpoptHessian { LimitedMemory, CostOnly, Exact };
 const char* to_string(IpoptHessian h);
-/// Parses "limited-memory" or "cost"; throws InvalidInput("hessian", ...).
+/// Parses "limited-memory", "cost" or "exact"; throws InvalidInput("hessian", ...).
 IpoptHessian parse_ipopt_hessian(const std::string& name);
 
 /// Multiple shooting's initial guess for the state variables (the references ref_j, z_j = 0).

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <vector>
 
 namespace lgvi::ocp::detail {
 
@@ -50,6 +52,7 @@ class ShootingNlp : public Ipopt::TNLP {
     const Eigen::MatrixXd& Sm = tr.sampling();
     gram_ = Eigen::MatrixXd::Zero(Sm.cols(), Sm.cols());
     for (Eigen::Index k = 0; k < Sm.rows(); ++k) gram_ += tr.node_weight(k) * Sm.row(k).transpose() * Sm.row(k);
+    if (hessian_ == IpoptHessian::Exact) build_hessian_structure();
   }
 
   bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
@@ -58,7 +61,9 @@ class ShootingNlp : public Ipopt::TNLP {
     m = tr_.shooting_constraints(nodes_);
     nnz_jac_g = static_cast<Ipopt::Index>(rows_.size());
     const int np = tr_.parameters();
-    nnz_h_lag = hessian_ == IpoptHessian::LimitedMemory ? 0 : np * (np + 1) / 2;
+    nnz_h_lag = hessian_ == IpoptHessian::LimitedMemory ? 0
+                : hessian_ == IpoptHessian::CostOnly    ? np * (np + 1) / 2
+                                                        : static_cast<Ipopt::Index>(h_rows_.size());
     index_style = C_STYLE;
     return true;
   }
@@ -108,10 +113,18 @@ class ShootingNlp : public Ipopt::TNLP {
   // IpoptHessian::CostOnly: the cost's Hessian (constant: J is quadratic in the knots,
   // d2J/dc_(a,i) dc_(b,j) = W_ab sum_k w_k S_ki S_kj) without the constraints' curvature, a
   // generalized Gauss-Newton model; lower triangle of the knot block, the state block zero.
-  bool eval_h(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Number obj_factor, Ipopt::Index,
-              const Ipopt::Number*, bool, Ipopt::Index, Ipopt::Index* iRow, Ipopt::Index* jCol,
+  bool eval_h(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number obj_factor, Ipopt::Index m,
+              const Ipopt::Number* lambda, bool, Ipopt::Index, Ipopt::Index* iRow, Ipopt::Index* jCol,
               Ipopt::Number* values) override {
     if (hessian_ == IpoptHessian::LimitedMemory) return false;
+    if (hessian_ == IpoptHessian::Exact) {
+      if (values == nullptr) {
+        std::copy(h_rows_.begin(), h_rows_.end(), iRow);
+        std::copy(h_cols_.begin(), h_cols_.end(), jCol);
+        return true;
+      }
+      return lagrangian_hessian(n, x, obj_factor, m, lambda, values);
+    }
     const int np = tr_.parameters(), knots = tr_.knots();
     Ipopt::Index e = 0;
     for (int r = 0; r < np; ++r) {
@@ -171,6 +184,113 @@ class ShootingNlp : public Ipopt::TNLP {
     return true;
   }
 
+  // --- IpoptHessian::Exact ----------------------------------------------------------------
+  // Structure: (p, q), p >= q, whenever a constraint row involves both columns, and the knot
+  // block (the cost). Colouring (Curtis, Powell, Reid 1974, applied to the symmetric case by
+  // symmetry): each knot column is its own group (the knots enter every row); state columns share
+  // a group when no state row of the Hessian has a non-zero in two of them; the knot rows of the
+  // state columns are then read from the knot columns' differences (H symmetric).
+  void build_hessian_structure() {
+    const int n = tr_.shooting_variables(nodes_), np = tr_.parameters();
+    std::vector<std::vector<int>> row_columns(static_cast<std::size_t>(tr_.shooting_constraints(nodes_)));
+    for (std::size_t k = 0; k < rows_.size(); ++k) row_columns[static_cast<std::size_t>(rows_[k])].push_back(cols_[k]);
+    adjacency_.assign(static_cast<std::size_t>(n), {});
+    for (int p = 0; p < np; ++p) {
+      for (int q = 0; q < np; ++q) adjacency_[static_cast<std::size_t>(p)].push_back(q);
+    }
+    for (const std::vector<int>& columns : row_columns) {
+      for (int p : columns) {
+        for (int q : columns) adjacency_[static_cast<std::size_t>(p)].push_back(q);
+      }
+    }
+    for (std::vector<int>& a : adjacency_) {
+      std::sort(a.begin(), a.end());
+      a.erase(std::unique(a.begin(), a.end()), a.end());
+    }
+    for (int p = 0; p < n; ++p) {
+      for (int q : adjacency_[static_cast<std::size_t>(p)]) {
+        if (q > p) break;
+        h_rows_.push_back(p);
+        h_cols_.push_back(q);
+      }
+    }
+    colour_.assign(static_cast<std::size_t>(n), -1);
+    int colours = 0;
+    for (int p = 0; p < np; ++p) colour_[static_cast<std::size_t>(p)] = colours++;
+    const int first_state_colour = colours;
+    std::vector<int> forbidden_by(static_cast<std::size_t>(n) + 1, -1);
+    for (int p = np; p < n; ++p) {
+      for (int r : adjacency_[static_cast<std::size_t>(p)]) {
+        if (r < np) continue;  // knot rows come from the knot columns
+        for (int q : adjacency_[static_cast<std::size_t>(r)]) {
+          if (q >= np && colour_[static_cast<std::size_t>(q)] >= 0) forbidden_by[colour_[static_cast<std::size_t>(q)]] = p;
+        }
+      }
+      int c = first_state_colour;
+      while (forbidden_by[static_cast<std::size_t>(c)] == p) ++c;
+      colour_[static_cast<std::size_t>(p)] = c;
+      colours = std::max(colours, c + 1);
+    }
+    colours_ = colours;
+  }
+  static int entry_index(const std::vector<int>& rows, const std::vector<int>& cols, int p, int q) {
+    // (p, q) with p >= q; the structure is sorted by p, then q.
+    const auto lo = std::lower_bound(rows.begin(), rows.end(), p);
+    const auto hi = std::upper_bound(lo, rows.end(), p);
+    const auto at = std::lower_bound(cols.begin() + (lo - rows.begin()), cols.begin() + (hi - rows.begin()), q);
+    return static_cast<int>(at - cols.begin());
+  }
+  /// grad_x (sigma J / cost_scale + y^T g) of an evaluation with gradients.
+  Eigen::VectorXd lagrangian_gradient(const typename Transcription::ShootingEvaluation& e, double sigma,
+                                      const Eigen::Map<const Eigen::VectorXd>& y) const {
+    Eigen::VectorXd g = sigma / cost_scale_ * e.cost_gradient;
+    for (std::size_t k = 0; k < rows_.size(); ++k) g(cols_[k]) += e.jacobian_values[k] * y(rows_[k]);
+    return g;
+  }
+  // Forward differences of the Lagrangian's exact gradient, one sweep with gradients per colour.
+  // Step: the error is delta/2 |d3L| (truncation) + 2 eps_g |grad L| / delta (the exact gradient's
+  // round-off, eps_g a few eps); for unit-scaled variables (knots in N or N m, chart coordinates in
+  // rad and the state units) the balance is delta ~ sqrt(eps) max(1, |x_j|), leaving a relative
+  // Hessian error ~ sqrt(eps) ~ 1e-8: enough for IPOPT's Newton steps (superlinear convergence).
+  bool lagrangian_hessian(Ipopt::Index n, const Ipopt::Number* xp, double sigma, Ipopt::Index m,
+                          const Ipopt::Number* lambda, Ipopt::Number* values) {
+    if (!ensure(n, xp, true)) return false;
+    const Eigen::Map<const Eigen::VectorXd> y(lambda, m);
+    const Eigen::VectorXd base = lagrangian_gradient(e_, sigma, y);
+    const Eigen::VectorXd x = x_;
+    const int np = tr_.parameters();
+    std::vector<double> sum(h_rows_.size(), 0.0);
+    std::vector<int> count(h_rows_.size(), 0);
+    Eigen::VectorXd step(n);
+    for (int c = 0; c < colours_; ++c) {
+      Eigen::VectorXd xc = x;
+      step.setZero();
+      for (int j = 0; j < n; ++j) {
+        if (colour_[static_cast<std::size_t>(j)] != c) continue;
+        step(j) = std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, std::abs(x(j)));
+        xc(j) += step(j);
+      }
+      ++S_.simulations;
+      ++S_.gradient_evaluations;
+      if (!tr_.evaluate_shooting(nodes_, xc, true, perturbed_)) {
+        ++S_.failed_simulations;
+        return false;
+      }
+      const Eigen::VectorXd diff = lagrangian_gradient(perturbed_, sigma, y) - base;
+      for (int j = 0; j < n; ++j) {
+        if (colour_[static_cast<std::size_t>(j)] != c) continue;
+        for (int r : adjacency_[static_cast<std::size_t>(j)]) {
+          if (j >= np && r < np) continue;  // a knot row of a state group: shared, taken from the knot column
+          const int e = r >= j ? entry_index(h_rows_, h_cols_, r, j) : entry_index(h_rows_, h_cols_, j, r);
+          sum[static_cast<std::size_t>(e)] += diff(r) / step(j);
+          ++count[static_cast<std::size_t>(e)];
+        }
+      }
+    }
+    for (std::size_t e = 0; e < sum.size(); ++e) values[e] = count[e] > 0 ? sum[e] / count[e] : 0.0;
+    return true;
+  }
+
   const Transcription& tr_;
   const typename Transcription::ShootingNodes& nodes_;
   IpoptHessian hessian_;
@@ -184,6 +304,12 @@ class ShootingNlp : public Ipopt::TNLP {
   bool have_ = false, have_gradients_ = false;
   typename Transcription::ShootingEvaluation e_;
   int iterations_ = 0;
+  // IpoptHessian::Exact: structure (lower triangle, sorted by row then column), the columns each
+  // column's Hessian entries lie in, the colour groups and the perturbed evaluation's buffer.
+  std::vector<int> h_rows_, h_cols_, colour_;
+  std::vector<std::vector<int>> adjacency_;
+  int colours_ = 0;
+  typename Transcription::ShootingEvaluation perturbed_;
 };
 
 }  // namespace

@@ -56,6 +56,7 @@ const char* to_string(Globalization g) {
     case Globalization::NewtonArmijo: return "newton-armijo";
     case Globalization::LevenbergMarquardt: return "levenberg-marquardt";
     case Globalization::Homotopy: return "homotopy";
+    case Globalization::Continuation: return "continuation";
   }
   return "unknown";
 }
@@ -64,8 +65,9 @@ Globalization parse_globalization(const std::string& name) {
   if (name == "newton-armijo") return Globalization::NewtonArmijo;
   if (name == "levenberg-marquardt") return Globalization::LevenbergMarquardt;
   if (name == "homotopy") return Globalization::Homotopy;
-  throw InvalidInput("globalization",
-                     "must be 'newton-armijo', 'levenberg-marquardt' or 'homotopy' (got '" + name + "')");
+  if (name == "continuation") return Globalization::Continuation;
+  throw InvalidInput("globalization", "must be 'newton-armijo', 'levenberg-marquardt', 'homotopy' or 'continuation' (got '" +
+                                          name + "')");
 }
 
 Merit parse_merit(const std::string& name) {
@@ -387,6 +389,7 @@ bool StateMultiplierFlow<Model>::simulate(const std::vector<VecU>& controls, Swe
 
 template class StateMultiplierFlow<PendulumModel>;
 template class StateMultiplierFlow<DumbbellModel>;
+template class StateMultiplierFlow<FreeBodyModel>;
 
 // --- Newton-Armijo shooting ----------------------------------------------------------------
 
@@ -431,13 +434,27 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
     if (!(o.lm_initial_damping > 0.0) || !std::isfinite(o.lm_initial_damping)) {
       throw InvalidInput("lm_initial_damping", "must be finite and > 0");
     }
-    if (o.globalization == Globalization::Homotopy && Model::has_symmetry) {
-      throw InvalidInput("globalization", "homotopy inverts the full sensitivity: not for a system with a symmetry "
-                                          "(the pendulum's is singular)");
+    if ((o.globalization == Globalization::Homotopy || o.globalization == Globalization::Continuation) &&
+        Model::has_symmetry) {
+      throw InvalidInput("globalization", std::string(to_string(o.globalization)) +
+                                              " inverts the full sensitivity: not for a system with a symmetry "
+                                              "(the pendulum's is singular)");
     }
     if (o.nonmonotone_memory < 1) throw InvalidInput("nonmonotone_memory", "must be >= 1");
     if (!(o.homotopy_initial_step > 0.0 && o.homotopy_initial_step <= 1.0)) {
       throw InvalidInput("homotopy_initial_step", "must lie in (0, 1]");
+    }
+    const ContinuationSettings& c = o.continuation;
+    if (!(c.initial_step > 0.0 && c.initial_step <= 1.0)) throw InvalidInput("continuation.initial_step", "must lie in (0, 1]");
+    if (!(c.predictor_target > 0.0 && c.predictor_target < 1.0)) {
+      throw InvalidInput("continuation.predictor_target", "must lie in (0, 1)");
+    }
+    if (!(c.corrector_tolerance > 0.0 && c.corrector_tolerance < 1.0)) {
+      throw InvalidInput("continuation.corrector_tolerance", "must lie in (0, 1)");
+    }
+    if (c.max_corrector < 0) throw InvalidInput("continuation.max_corrector", "must be >= 0");
+    if (!(c.max_growth >= 1.0) || !std::isfinite(c.max_growth)) {
+      throw InvalidInput("continuation.max_growth", "must be finite and >= 1");
     }
   } catch (const InvalidInput& e) {
     S.status = ShootingStatus::InvalidInput;
@@ -517,6 +534,8 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
   // when the path following gives up: Newton-Armijo then continues from the last path point).
   if (o.globalization == Globalization::Homotopy) {
     newton_homotopy(sweeps, newton, lambda, current, S, o.homotopy_initial_step);
+  } else if (o.globalization == Globalization::Continuation) {
+    newton_continuation(sweeps, newton, lambda, current, S, o.continuation);
   }
   newton_armijo_shooting(sweeps, newton, lambda, current, S);
   return result;
@@ -527,6 +546,11 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
 ShootingResult<PendulumModel> solve_indirect(const Pendulum3D& system, const TransferProblem& problem,
                                              const ShootingOptions& options) {
   return shoot<PendulumModel>(system, problem, options);
+}
+
+ShootingResult<FreeBodyModel> solve_indirect(const FreeRigidBody& system, const TransferProblem& problem,
+                                             const ShootingOptions& options) {
+  return shoot<FreeBodyModel>(system, problem, options);
 }
 
 ShootingResult<DumbbellModel> solve_indirect(const DumbbellSpacecraft& system,

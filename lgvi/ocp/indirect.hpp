@@ -100,11 +100,28 @@ Merit parse_merit(const std::string& name);
 /// Homotopy: Newton homotopy path following (newton_armijo.hpp, newton_homotopy) from the guess to
 /// tau = 1, then Newton-Armijo's end game; it follows the path the damped Newton iteration
 /// approximates, so it reaches Newton-Armijo's extremal with fewer Jacobians (lgvi/ocp/README.md).
-enum class Globalization { NewtonArmijo, LevenbergMarquardt, Homotopy };
+/// Continuation: the same path followed with a Hermite predictor, Broyden corrector and the exact
+/// Jacobian only at accepted path points (newton_continuation), then Newton-Armijo's end game;
+/// the same extremal in fewer Jacobians (lgvi/ocp/README.md).
+enum class Globalization { NewtonArmijo, LevenbergMarquardt, Homotopy, Continuation };
 const char* to_string(Globalization g);
-/// Parses "newton-armijo", "levenberg-marquardt" or "homotopy"; throws
+/// Parses "newton-armijo", "levenberg-marquardt", "homotopy" or "continuation"; throws
 /// InvalidInput("globalization", ...).
 Globalization parse_globalization(const std::string& name);
+
+/// Settings of newton_continuation (validated by the caller).
+struct ContinuationSettings {
+  double initial_step = 0.05;  ///< first step in tau (measured on the dumbbell: 0.02 / 0.05 / 0.1 / 0.3 gave
+                               ///< 54 / 34 / 46 / 41 outer iterations; lgvi/ocp/README.md)
+  /// Step control: the next step is chosen so that the predicted point's homotopy residual
+  /// |H(lambda_pred, tau)| is about this fraction of |r_start| (a point the corrector reaches in
+  /// 2-3 steps); the predictor's error is O(dtau^p), p = 2 (tangent) or 4 (Hermite).
+  double predictor_target = 0.1;
+  double corrector_tolerance = 1e-2;  ///< accept a path point at |H| <= this |r_start|
+  int max_corrector = 6;              ///< quasi-Newton corrector steps per tau step
+  double max_growth = 4.0;            ///< bound on dtau_next / dtau
+};
+
 
 struct ShootingOptions {
   LgviForm form = LgviForm::Symmetric;
@@ -124,6 +141,8 @@ struct ShootingOptions {
   int nonmonotone_memory = 1;
   /// Homotopy: the first step in tau (doubled after easy corrections, halved after failed ones).
   double homotopy_initial_step = 0.1;
+  /// Continuation: predictor / corrector settings.
+  ContinuationSettings continuation;
   double armijo = 1e-4;        ///< sufficient decrease |r(l + t d)| <= (1 - armijo t) |r(l)|
   double tolerance = 1e-12;    ///< on the violation
   /// After reaching the tolerance, up to this many more full Newton steps, kept while they lower
@@ -269,7 +288,12 @@ ShootingResult<PendulumModel> solve_indirect(const Pendulum3D& system, const Tra
 ShootingResult<DumbbellModel> solve_indirect(const DumbbellSpacecraft& system,
                                              const TransferProblem& problem, const ShootingOptions& options);
 
+/// The free body's rest-to-rest (or any) attitude transfer with a body-frame control moment.
+ShootingResult<FreeBodyModel> solve_indirect(const FreeRigidBody& system, const TransferProblem& problem,
+                                             const ShootingOptions& options);
+
 extern template class StateMultiplierFlow<PendulumModel>;
+extern template class StateMultiplierFlow<FreeBodyModel>;
 extern template class StateMultiplierFlow<DumbbellModel>;
 
 }  // namespace lgvi::ocp

@@ -27,6 +27,7 @@
 #include "lgvi/lgvi.hpp"
 #include "lgvi/so3.hpp"
 #include "lgvi/systems/dumbbell.hpp"
+#include "lgvi/systems/free_rigid_body.hpp"
 #include "lgvi/systems/pendulum.hpp"
 #include "lgvi/types.hpp"
 
@@ -97,6 +98,46 @@ struct PendulumModel : ModelDimensions<3, 3> {
   }
   /// Gradient of the conserved vertical momentum e3^T R Pi in the tangent [eta; dPi].
   static VecS conserved_gradient(const State& s) { return Pendulum3D::vertical_momentum_gradient(s.R, s.Pi); }
+};
+
+/// The free rigid body with a body-frame control moment u (FreeRigidBody::control_moment): a
+/// spacecraft slew, n_q = n_u = 3. No potential and B = I, so phi = 0, G = H = C = 0: the kicks
+/// are P' = P + c u and the necessary conditions reduce to u_j = -W^{-1} lambda_{j,Pi} with the
+/// drift's linearization alone carrying the dynamics (eqs. 17-19 with M = 0). Not the pendulum's
+/// model with m g rho = 0: its control R^T e3 x u has no component along the vertical.
+/// The spatial angular momentum R Pi is changed by u, so no symmetry remains for the shooting.
+struct FreeBodyModel : ModelDimensions<3, 3> {
+  static constexpr bool has_translation = false;
+  static constexpr bool has_symmetry = false;
+  using System = FreeRigidBody;
+  using Lgvi = AttitudeLgvi<FreeRigidBody>;
+  using State = AttitudeState;
+  using Control = Vec3;
+
+  explicit FreeBodyModel(const FreeRigidBody& s) : system(s) {}
+  const FreeRigidBody& system;
+
+  static const char* name() { return "free-body"; }
+  static Control control(const VecU& u) { return u; }
+  static VecU control_vector(const Control& u) { return u; }
+  static Vec3 position(const State&) { return Vec3::Zero(); }
+  static VecQ momenta(const State& s) { return s.Pi; }
+  MatQ momentum_per_velocity() const { return system.inertia.J; }
+
+  /// The momentum after AttitudeLgvi::step's first kick, with its arithmetic.
+  VecQ kicked_momenta(const State& s, double c0, const VecU& u) const {
+    Vec3 kick = s.Pi;
+    if (c0 != 0.0) kick += c0 * (s.M + system.control_moment(s.R, u));
+    return kick;
+  }
+
+  static MatQU control_matrix(const Mat3&, const Vec3&) { return MatQU::Identity(); }
+  static MatQ force_jacobian(const Mat3&, const Vec3&, const VecU&) { return MatQ::Zero(); }
+  static MatQ force_jacobian_transpose_derivative(const Mat3&, const Vec3&, const VecU&, const VecQ&) {
+    return MatQ::Zero();
+  }
+  static MatUQ control_matrix_transpose_derivative(const Mat3&, const Vec3&, const VecQ&) { return MatUQ::Zero(); }
+  static VecS conserved_gradient(const State&) { return VecS::Zero(); }
 };
 
 /// The dumbbell spacecraft on SE(3) (section 3.1): q = (R, x), P = (Pi, p = m v),

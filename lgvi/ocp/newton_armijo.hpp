@@ -124,6 +124,119 @@ bool newton_homotopy(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::M
   return true;
 }
 
+/// Newton-homotopy continuation with few Jacobians (Allgower & Georg 1990, ch. 2, 6, 7): follows the
+/// same path as newton_homotopy, the zeros of H(lambda, tau) = r(lambda) - (1 - tau) r(lambda_start)
+/// (Newton-Armijo's path; its tangent dlambda/dtau = -J^{-1} r_start is the Newton direction), but
+///  - predictor: cubic Hermite extrapolation through the last two path points and their tangents
+///    (error O(dtau^4); the tangent step lambda + dtau t for the first step);
+///  - corrector: Broyden's quasi-Newton steps from the path point's Jacobian (rank-one secant
+///    updates, residual-only sweeps), at most `max_corrector`, each must shrink |H| by half;
+///  - the exact Jacobian (a sweep with sensitivities) only at accepted path points, for the next
+///    tangent;
+///  - step control from the predictor's measured error: dtau_next = dtau (target / e)^{1/p},
+///    e = |H(lambda_pred)| / |r_start|, clipped to [1/4, max_growth]; a failed corrector quarters
+///    dtau at most and never below the formula's value.
+/// Counting: every sweep with sensitivities (every Jacobian) is an outer iteration, every
+/// residual-only sweep (predicted and corrected points) an inner one. Returns whether tau = 1 was
+/// reached with |r| <= corrector_tolerance |r_start|; `lambda`, `current` are the last path point
+/// (the end game is Newton-Armijo from there).
+template <class Problem, class Evaluation, int N>
+bool newton_continuation(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
+                         Evaluation& current, ShootingSummary& S, const ContinuationSettings& c = {}) {
+  using Vec = Eigen::Matrix<double, N, 1>;
+  using Mat = Eigen::Matrix<double, N, N>;
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - o.start).count(); };
+  const Vec r_start = current.residual;
+  const double r_norm = r_start.norm();
+  if (!(r_norm > 0.0)) return true;
+  double tau = 0.0, dtau = c.initial_step;
+  Vec tangent = -current.jacobian.partialPivLu().solve(r_start);
+  // The previous path point (tau, lambda, tangent) for the Hermite predictor.
+  bool have_previous = false;
+  double tau_prev = 0.0;
+  Vec lambda_prev = lambda, tangent_prev = tangent;
+  Evaluation point;
+  while (tau < 1.0) {
+    if (S.iterations >= o.max_iterations || dtau < 1e-6 || !tangent.allFinite()) return false;
+    const double next = std::min(1.0, tau + dtau);
+    const double step = next - tau;
+    IterationRecord rec;
+    rec.iteration = S.iterations;
+    rec.violation = current.residual.norm();
+    rec.cost = current.cost;
+    rec.cond_sensitivity = rec.cond_inverted = condition_number(current.jacobian);
+    Vec candidate;
+    int order = 2;
+    if (have_previous) {
+      // Cubic Hermite through (tau_prev, lambda_prev, tangent_prev), (tau, lambda, tangent),
+      // evaluated at s = (next - tau_prev) / H, H = tau - tau_prev (s > 1: extrapolation).
+      const double H = tau - tau_prev, s = (next - tau_prev) / H;
+      const double h00 = 2 * s * s * s - 3 * s * s + 1, h10 = s * s * s - 2 * s * s + s;
+      const double h01 = -2 * s * s * s + 3 * s * s, h11 = s * s * s - s * s;
+      candidate = h00 * lambda_prev + h10 * H * tangent_prev + h01 * lambda + h11 * H * tangent;
+      order = 4;
+    } else {
+      candidate = lambda + step * tangent;
+    }
+    // Broyden corrector from the path point's Jacobian.
+    Mat B = current.jacobian;
+    bool ok = false;
+    double predicted_error = std::numeric_limits<double>::infinity();
+    double previous = std::numeric_limits<double>::infinity();
+    Vec H_prev = Vec::Zero(), delta = Vec::Zero();
+    int evaluations = 0;
+    for (int i = 0; i <= c.max_corrector; ++i) {
+      ++S.sweeps;
+      ++S.inner_iterations;
+      ++evaluations;
+      if (!candidate.allFinite() || !problem.evaluate(candidate, false, point)) break;
+      const Vec H = point.residual - (1.0 - next) * r_start;
+      const double h = H.norm();
+      if (i == 0) predicted_error = h / r_norm;
+      if (h <= c.corrector_tolerance * r_norm) {
+        ok = true;
+        break;
+      }
+      if (!(h <= 0.5 * previous)) break;
+      if (i > 0) B += (H - H_prev - B * delta) * delta.transpose() / delta.squaredNorm();
+      previous = h;
+      H_prev = H;
+      delta = -B.partialPivLu().solve(H);
+      candidate += delta;
+    }
+    rec.backtracks = evaluations;
+    double factor = std::isfinite(predicted_error) && predicted_error > 0.0
+                        ? std::pow(c.predictor_target / predicted_error, 1.0 / order)
+                        : 0.25;
+    if (ok) {
+      ++S.sweeps;
+      if (!problem.evaluate(candidate, true, point)) ok = false;
+    }
+    if (ok) {
+      ++S.iterations;
+      rec.step_norm = (candidate - lambda).norm();
+      tau_prev = tau;
+      lambda_prev = lambda;
+      tangent_prev = tangent;
+      have_previous = true;
+      lambda = candidate;
+      current = point;
+      tau = next;
+      tangent = -current.jacobian.partialPivLu().solve(r_start);
+      rec.step_length = next;  // tau reached
+      dtau = step * std::clamp(factor, 0.25, c.max_growth);
+    } else {
+      rec.step_length = 0.0;
+      dtau = step * std::clamp(factor, 0.0625, 0.25);
+    }
+    rec.sweeps = S.sweeps;
+    rec.seconds = seconds();
+    S.history.push_back(rec);
+  }
+  return true;
+}
+
 /// Newton-Armijo iterations from `lambda` whose evaluation (with Jacobian, ok) is `current`;
 /// `summary.decomposition` selects the symmetry-decomposed Newton system. On return `lambda` is
 /// the last accepted multiplier, `current` its evaluation (see Problem::evaluate), and summary's

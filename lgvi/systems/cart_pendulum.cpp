@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "lgvi/require_nonnegative.hpp"
 #include "lgvi/so3.hpp"
 
 namespace lgvi {
@@ -11,7 +12,7 @@ CartPendulum::CartPendulum(double M, double m, const Mat3& J, const Vec3& d_, do
   require_positive(cart_mass, "cart_mass");
   require_positive(mass, "mass");
   require_finite(d, "d");
-  if (!std::isfinite(gravity) || gravity < 0.0) throw InvalidInput("gravity", "must be finite and >= 0");
+  require_nonnegative(gravity, "gravity");
 }
 
 CartPendulum CartPendulum::paper() {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "lgvi/require_nonnegative.hpp"
+
 namespace lgvi {
 
 namespace {
@@ -19,7 +21,7 @@ DumbbellSpacecraft::DumbbellSpacecraft(double m, double mu_, const Vec3& rho_, d
   require_positive(mu, "mu");
   require_finite(rho, "rho");
   if (rho.norm() == 0.0) throw InvalidInput("rho", "must be nonzero (the spheres coincide)");
-  if (!std::isfinite(r) || r < 0.0) throw InvalidInput("sphere_radius", "must be finite and >= 0");
+  require_nonnegative(r, "sphere_radius");
   inertia = Inertia::from(dumbbell_inertia(mass, rho, r), "inertia (from rho and sphere_radius)");
 }
 

@@ -2,13 +2,15 @@
 
 #include <cmath>
 
+#include "lgvi/require_nonnegative.hpp"
+
 namespace lgvi {
 
 Pendulum3D::Pendulum3D(double m, const Mat3& J, const Vec3& rho_, double g)
     : mass(m), inertia(Inertia::from(J)), rho(rho_), gravity(g) {
   require_positive(mass, "mass");
   require_finite(rho, "rho");
-  if (!std::isfinite(gravity) || gravity < 0.0) throw InvalidInput("gravity", "must be finite and >= 0");
+  require_nonnegative(gravity, "gravity");
 }
 
 Pendulum3D Pendulum3D::paper() {

@@ -179,7 +179,7 @@ def test_ocp_indirect_and_direct_with_both_solvers():
     assert slsqp["knots"]["columns"]["u1"].shape == (7,)
     with pytest.raises(ValueError, match="--solver|solver"):
         lgvi.solve_ocp("cart-pendulum", solver="nope", steps=100)
-    with pytest.raises(ValueError, match="system"):
+    with pytest.raises(ValueError, match="bicycle: unknown scene"):
         lgvi.solve_ocp("bicycle")
     with pytest.raises(ValueError, match="not an option"):
         lgvi.solve_ocp("pendulum", stepz=10)

@@ -326,6 +326,19 @@ TEST(CliSimulate, UnwritableOutputExitsThreeAndLeavesNothing) {
   EXPECT_TRUE(dir.work_entries().empty());
 }
 
+// A run whose CSV cannot fit in the free space is refused before anything is written (10^12 steps
+// written every step: at least 10^12 rows, over a petabyte), in milliseconds.
+TEST(CliSimulate, ARunLargerThanTheFreeSpaceIsRefusedBeforeWriting) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"simulate", "pendulum", "--h", "1e-13", "--t-final", "0.1", "--every", "1",
+                                        "--out", "big.csv"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("big.csv: not enough space"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--every"), std::string::npos) << r.err;
+  EXPECT_TRUE(dir.work_entries().empty());
+}
+
 // --- scenes, help, suite -------------------------------------------------------------------------
 
 TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
@@ -333,10 +346,13 @@ TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
   const CliResult r = run_testbed(dir, {"scenes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  ASSERT_EQ(lines.size(), 7u) << r.out;
-  const char* names[] = {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
-                         "pendulum-controlled"};
-  for (std::size_t i = 0; i < 7; ++i) {
+  const std::vector<std::string> names = {"cart-pendulum",        "connected-bodies",   "dumbbell",
+                                          "free-body",            "lagrange-top",       "ocp-cart-pendulum",
+                                          "ocp-connected-bodies", "ocp-dumbbell",       "ocp-free-body-slew",
+                                          "ocp-pendulum",         "pendulum",           "pendulum-controlled",
+                                          "spacecraft-tumble"};
+  ASSERT_EQ(lines.size(), names.size()) << r.out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
     EXPECT_EQ(lines[i].rfind(std::string(names[i]) + " ", 0), 0u) << lines[i];
     EXPECT_GT(lines[i].size(), 30u) << lines[i];
   }
@@ -361,7 +377,7 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   std::sort(files.begin(), files.end());
   std::vector<std::string> expected = {"summary.csv", "summary.jsonl", "suite-journal.jsonl", "suite-run.json"};
   for (const char* scene : {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
-                            "pendulum-controlled"}) {
+                            "pendulum-controlled", "spacecraft-tumble"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
       expected.push_back(scene + std::string(suffix));
     }
@@ -370,11 +386,11 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   EXPECT_EQ(files, expected);  // and no temporaries
 
   const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.jsonl"));
-  ASSERT_EQ(summary.size(), 14u);  // one JSON object per run
-  // The metadata lines ('#') state the units and what each error column is; then header + 14 rows.
+  ASSERT_EQ(summary.size(), 16u);  // one JSON object per run
+  // The metadata lines ('#') state the units and what each error column is; then header + 16 rows.
   const std::vector<std::string> csv = lines_of(read_text(dir.work() / "res" / "summary.csv"));
   const auto metadata_end = std::find_if(csv.begin(), csv.end(), [](const std::string& l) { return !l.starts_with("#"); });
-  EXPECT_EQ(csv.end() - metadata_end, 15);
+  EXPECT_EQ(csv.end() - metadata_end, 17);
   const std::string metadata = std::accumulate(csv.begin(), metadata_end, std::string());
   for (const char* line : {"# suite: default", "# form: full", "# units: ", "# errors: ",
                            "# columns.max_energy_error_relative: ", "# columns.max_energy_error_absolute: ",
@@ -384,7 +400,7 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   ASSERT_NE(metadata_end, csv.end());
   EXPECT_NE(metadata_end->find(",max_energy_error_relative,max_energy_error_absolute,"), std::string::npos)
       << *metadata_end;
-  for (std::size_t i = 0; i < 14; ++i) {
+  for (std::size_t i = 0; i < 16; ++i) {
     for (const char* key : {"\"scene\": ", "\"method\": \"lgvi\"", "\"form\": ", "\"status\": \"completed\"",
                             "\"newton_iterations\": ", "\"max_newton_iterations\": ", "\"wall_seconds\": ",
                             "\"potential_evaluations\": ", "\"max_energy_error\": ",

@@ -53,5 +53,36 @@ TEST(FiguresCommand, MissingInputsAreOneLineErrors) {
   EXPECT_FALSE(fs::exists(dir.work() / "figs" / "fig4-cart-pendulum.png"));
 }
 
+// Files of two runs (a run killed between writing its history and its summary): every file
+// carries its run's id and the figure is refused, naming the odd file; a directory whose summary
+// is missing (the run did not finish) likewise.
+TEST(FiguresCommand, FilesOfTwoRunsAreRefused) {
+  TempDir dir;
+  ASSERT_EQ(run_testbed(dir, {"ocp", "pendulum", "--out", "a"}).exit_code, 0);
+  ASSERT_EQ(run_testbed(dir, {"ocp", "pendulum", "--out", "b"}).exit_code, 0);
+  const fs::path a = dir.work() / "a", b = dir.work() / "b";
+  const std::string summary = read_text(a / "ocp-pendulum-summary.json");
+  const std::size_t at = summary.find("\"run_id\": \"");
+  ASSERT_NE(at, std::string::npos) << summary;
+  const std::string id = summary.substr(at + 11, summary.find('"', at + 11) - at - 11);
+  for (const char* f : {"ocp-pendulum-history.csv", "ocp-pendulum-trajectory.csv"}) {
+    EXPECT_NE(read_text(a / f).find("# run_id: " + id + "\n"), std::string::npos) << f;
+  }
+  EXPECT_EQ(read_text(b / "ocp-pendulum-summary.json").find(id), std::string::npos) << "run ids must differ";
+
+  fs::copy_file(b / "ocp-pendulum-history.csv", a / "ocp-pendulum-history.csv", fs::copy_options::overwrite_existing);
+  const CliResult mixed = run_testbed(dir, {"figures", "--only", "pendulum", "--from", "a", "--out", "figs"});
+  EXPECT_EQ(mixed.exit_code, 3) << mixed.err;
+  ASSERT_EQ(mixed.err_lines().size(), 1u) << mixed.err;
+  EXPECT_NE(mixed.err.find("ocp-pendulum-history.csv: from run"), std::string::npos) << mixed.err;
+  EXPECT_NE(mixed.err.find("files of two runs"), std::string::npos) << mixed.err;
+  EXPECT_FALSE(fs::exists(dir.work() / "figs" / "fig3-pendulum.png"));
+
+  fs::remove(b / "ocp-pendulum-summary.json");
+  const CliResult unfinished = run_testbed(dir, {"figures", "--only", "pendulum", "--from", "b", "--out", "figs"});
+  EXPECT_EQ(unfinished.exit_code, 3) << unfinished.err;
+  EXPECT_NE(unfinished.err.find("ocp-pendulum-summary.json: not found"), std::string::npos) << unfinished.err;
+}
+
 }  // namespace
 }  // namespace lgvi::test

@@ -155,6 +155,36 @@ TEST(Shooting, DumbbellConvergesByLevenbergMarquardt) {
   expect_no_nan(S);
 }
 
+// The continuation globalization (newton_continuation, issue 17) at the command's default (1000
+// printed steps, uncontrolled guess): converged within 40 outer iterations (Jacobians) and on
+// Newton-Armijo's extremal (it follows the path Newton-Armijo's damped steps approximate). Same
+// extremal: the initial multipliers agree to 1e-4 relative. Derivation: both violations are
+// <= 1e-12 and |J^{-1}| <= cond / |J| with cond ~ 1e7 (README), so each lambda_0 is within
+// ~1e7 * 1e-12 / |J| of the exact root, |J| ~ 1e6 (|dr/dlambda_R1| = 1.7e6): 1e-11 absolute,
+// far below 1e-4 |lambda_0|; the nearest other extremals (README: 1.39028, 1.39033, 1.42738)
+// differ in lambda_0 by O(1) relative. The cost is compared at 1e-8 relative by the same bound.
+TEST(Shooting, DumbbellContinuationReachesNewtonArmijosExtremalWithin40Iterations) {
+  const DumbbellSpacecraft dumbbell = DumbbellSpacecraft::paper();
+  ShootingOptions o;
+  o.form = LgviForm::Printed;
+  o.h = 0.5 * M_PI / 1000.0;
+  o.max_iterations = 300;
+  o.initial_multiplier = Eigen::VectorXd::Zero(12);
+  const ShootingSummary armijo = ocp::solve_indirect(dumbbell, TransferProblem::dumbbell_paper(), o).summary;
+  o.globalization = ocp::Globalization::Continuation;
+  const ShootingSummary S = ocp::solve_indirect(dumbbell, TransferProblem::dumbbell_paper(), o).summary;
+  print("dumbbell, printed, 1000 steps, Newton-Armijo", armijo);
+  print("dumbbell, printed, 1000 steps, continuation", S);
+  ASSERT_TRUE(armijo.converged()) << armijo.brief();
+  ASSERT_TRUE(S.converged()) << S.brief();
+  EXPECT_LE(S.violation, kOcpViolation);
+  EXPECT_LE(S.iterations, 40);
+  EXPECT_LE((S.multiplier - armijo.multiplier).norm(), 1e-4 * armijo.multiplier.norm());
+  EXPECT_NEAR(S.cost, armijo.cost, 1e-8 * armijo.cost);
+  EXPECT_EQ(S.globalization, ocp::Globalization::Continuation);
+  expect_no_nan(S);
+}
+
 TEST(Shooting, BadInputEndsWithStatusAndMessage) {
   const Pendulum3D pendulum = Pendulum3D::paper();
   const TransferProblem problem = TransferProblem::pendulum_paper();
