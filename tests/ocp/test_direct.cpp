@@ -106,18 +106,6 @@ Eigen::Matrix<double, N, 1> random_vector(std::mt19937_64& rng, double scale) {
   return v;
 }
 
-// Tangent difference of two cart-pendulum states (log on SO(3), plain differences otherwise).
-Eigen::Matrix<double, 10, 1> difference(const CartPendulumState& a, const CartPendulumState& b) {
-  Eigen::Matrix<double, 10, 1> w;
-  w << so3::log(b.R.transpose() * a.R), a.q - b.q, a.Pi - b.Pi, a.p - b.p;
-  return w;
-}
-Eigen::Matrix<double, 12, 1> difference(const ConnectedBodiesState& a, const ConnectedBodiesState& b) {
-  Eigen::Matrix<double, 12, 1> w;
-  w << so3::log(b.R1.transpose() * a.R1), so3::log(b.R2.transpose() * a.R2), a.Pi1 - b.Pi1, a.Pi2 - b.Pi2;
-  return w;
-}
-
 CartPendulumState perturbed(const CartPendulumLgvi& l, const CartPendulumState& s,
                             const Eigen::Matrix<double, 10, 1>& w) {
   return ocp::perturb(s, l.system(), w);
