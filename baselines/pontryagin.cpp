@@ -89,12 +89,11 @@ double PendulumPontryaginOde::hamiltonian(const Mat3& R, const Vec3& Pi, const V
 }
 
 Vec6 PendulumPontryaginOde::costate_rate(const Mat3& R, const Vec3& Pi, const Vec6& lambda) const {
-  const Vec3 a = R.row(2).transpose();
   const Vec3 Omega = system_.inertia.J_inverse * Pi;
   const Vec3 lR = lambda.head<3>(), lP = lambda.tail<3>();
-  const Vec3 w = system_.mass * system_.gravity * system_.rho - control(R, lambda);
   Vec6 rate;
-  rate.head<3>() = lR.cross(Omega) - a.cross(w.cross(lP));
+  // lambda_R' = lambda_R x Omega - (dM/deta)^T lambda_Pi, M the applied moment (gravity and control).
+  rate.head<3>() = lR.cross(Omega) - system_.J_moment_eta(R, control(R, lambda)).transpose() * lP;
   rate.tail<3>() = -system_.inertia.J_inverse * (lR - Pi.cross(lP)) - Omega.cross(lP);
   return rate;
 }
@@ -146,7 +145,7 @@ RhsStatus PendulumPontryaginOde::jacobian(double /*t*/, const double* y_ptr, dou
   D.block<3, 4>(kLambdaR, kQ) = hat(w.cross(lP)) * Da - hat(a) * hat(lP) * du_dq;
   D.block<3, 3>(kLambdaR, kPi) = hat(lR) * Jinv;
   D.block<3, 3>(kLambdaR, kLambdaR) = -hat(Omega);
-  D.block<3, 3>(kLambdaR, kLambdaPi) = -hat(a) * hat(w) - hat(a) * hat(lP) * du_dlP;
+  D.block<3, 3>(kLambdaR, kLambdaPi) = -system_.J_moment_eta(R, u).transpose() - hat(a) * hat(lP) * du_dlP;
   // lambda_Pi' = -J^{-1} (lambda_R - Pi x lambda_Pi) - Omega x lambda_Pi.
   D.block<3, 3>(kLambdaPi, kPi) = -Jinv * hat(lP) + hat(lP) * Jinv;
   D.block<3, 3>(kLambdaPi, kLambdaR) = -Jinv;
@@ -175,13 +174,6 @@ PendulumShootingFunction::PendulumShootingFunction(const Pendulum3D& system, con
   require_finite(problem.Omegaf, "Omegaf");
   if (!(problem.t_final > 0.0) || !std::isfinite(problem.t_final)) throw InvalidInput("t_final", "must be finite and > 0");
   if (!(integration.rtol > 0.0) || !std::isfinite(integration.rtol)) throw InvalidInput("rtol", "must be finite and > 0");
-}
-
-Vec6 PendulumShootingFunction::conserved_gradient(const Mat3& R, const Vec3& Pi) {
-  const Vec3 a = R.row(2).transpose();
-  Vec6 g;
-  g << Pi.cross(a), a;
-  return g;
 }
 
 Mat6 PendulumShootingFunction::residual_jacobian(const Vec6& r) const {
@@ -251,7 +243,7 @@ PontryaginEvaluation PendulumShootingFunction::evaluate(const Vec6& lambda0, boo
 
 std::pair<Mat6, Vec6> PendulumShootingFunction::terminal_symmetry(const PontryaginEvaluation& at) const {
   const Vec3 PiT = ode_.system().inertia.J * at.Omega_final;
-  return {residual_jacobian(at.residual), conserved_gradient(at.R_final, PiT)};
+  return {residual_jacobian(at.residual), Pendulum3D::vertical_momentum_gradient(at.R_final, PiT)};
 }
 
 // --- the dumbbell ------------------------------------------------------------------------------
@@ -613,7 +605,7 @@ ContinuousShootingResult solve_pontryagin(const Pendulum3D& system, const ocp::T
       system, problem, o, "pendulum (continuous)", o.decomposition, [&](ocp::NewtonArmijoOptions<6>& newton) {
         if (!o.decomposition) return;
         const Vec3 Pi0 = system.inertia.J * problem.Omega0;
-        newton.initial_conserved_gradient = PendulumShootingFunction::conserved_gradient(problem.R0, Pi0);
+        newton.initial_conserved_gradient = Pendulum3D::vertical_momentum_gradient(problem.R0, Pi0);
       });
 }
 

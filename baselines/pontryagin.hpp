@@ -149,8 +149,6 @@ class PendulumShootingFunction {
   /// Integrates from lambda0; with `jacobian` also dr/dlambda(0) by `method`.
   PontryaginEvaluation evaluate(const Vec6& lambda0, bool jacobian,
                                 ShootingJacobian method = ShootingJacobian::Sensitivities) const;
-  /// Gradient of the conserved vertical momentum on [eta; dPi] at (R, Pi): [Pi x a; a].
-  static Vec6 conserved_gradient(const Mat3& R, const Vec3& Pi);
   /// D = d r / d[eta; dPi](T) at the residual r.
   Mat6 residual_jacobian(const Vec6& r) const;
   /// D and dC(s_T), from which the decomposition's u_g = D^{-T} dC(s_T).

@@ -32,6 +32,7 @@ struct Conserved {
 /// Axis labels of a system in its units (gnuplot enhanced text).
 struct SystemLabels {
   std::string time, energy, momentum;
+  std::string horizon_unit;  ///< after a horizon's value in a title: " s", " (orbit period 2π)"
 };
 
 /// SystemBinding<M> for a scene model M provides (static members; `State` is M::State, the

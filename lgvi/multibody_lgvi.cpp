@@ -52,37 +52,17 @@ LGVI_FLATTEN RotationUpdateSummary CartPendulumLgvi::step(const State& in, doubl
                                              const Control& u_k1, State& out) const {
   const auto [c0, c1] = impulse_weights(form_, h);
   const CartPendulum& S = system_;
-  const double m = S.mass, total = S.cart_mass + S.mass, kappa = m * m / total;
+  const double m = S.mass;
   const Mat3& Jd = S.inertia.Jd;
   const Vec3& d = S.d;
-  const Mat3 D = so3::hat(d);
-  const Vec2 p_minus = in.p + c0 * u_k;
-  const Eigen::Matrix<double, 3, 2> RtE = in.R.transpose().leftCols<2>();  // R_k^T E
-  const Vec3 n = in.R.row(2).transpose();                                  // R_k^T e3
-  const Mat3 P = Mat3::Identity() - n * n.transpose();
-  const Vec3 coupling = (m * h / total) * d.cross(RtE * p_minus);
-  const Vec3 b = h * in.Pi + (0.5 * h * h) * in.M - coupling;
-  const double b_scale = (h * in.Pi).norm() + (0.5 * h * h * in.M).norm() + coupling.norm();
-
-  // In terms of A = F - I (see group_newton.hpp): F J_d - J_d F^T = A J_d - J_d A^T.
-  auto residual = [&](const std::array<Mat3, 1>& A, Vec3& G) {
-    const Vec3 t1 = vee_of_skew_product(A[0], Jd);
-    const Vec3 t2 = kappa * d.cross(P * (A[0] * d));
-    G = t1 - t2 - b;
-    return t1.norm() + t2.norm() + b_scale;
-  };
-  const Mat3 kappa_DP = kappa * D * P;
-  auto jacobian = [&](const std::array<Mat3, 1>& A, Mat3& DG) {
-    const Mat3 F = Mat3::Identity() + A[0];
-    DG = J_G_xi(F, Jd) + kappa_DP * F * D;
-  };
-  // Warm start from the linearization (J + kappa hat(d) P hat(d)) f = b at F = I.
-  const Mat3 J0 = S.inertia.J + kappa * D * P * D;
-  std::array<Mat3, 1> A{so3::exp_minus_identity(J0.partialPivLu().solve(b))};
+  const CartPendulumStepEquation equation(S, in, h, c0, u_k);
+  auto residual = [&](const std::array<Mat3, 1>& A, Vec3& G) { return equation.residual(A[0], G); };
+  auto jacobian = [&](const std::array<Mat3, 1>& A, Mat3& DG) { DG = equation.J_G_xi(Mat3::Identity() + A[0]); };
+  std::array<Mat3, 1> A{equation.initial_guess()};
   const RotationUpdateSummary summary = solve_on_rotations<1>(A, residual, jacobian, options_);
   if (!summary.converged()) return summary;
 
-  const Vec2 dq = (h * p_minus - m * RtE.transpose() * (A[0] * d)) / total;
+  const Vec2 dq = equation.cart_displacement(A[0]);
   // R_{k+1} = R_k + R_k (F - I) with compensated (Kahan) summation: the increment R_k A is
   // O(h) and formed to eps of its own size, and the compensation keeps the rounding of the sum
   // from accumulating. Plain R_k F lets R drift off SO(3) by ~eps per step, and the vertical
@@ -94,11 +74,74 @@ LGVI_FLATTEN RotationUpdateSummary CartPendulumLgvi::step(const State& in, doubl
   const Vec3 M1 = S.moment(R1);
   out.Pi = so3::vee(Jd * A[0] - A[0].transpose() * Jd) / h +
            (m / h) * d.cross(R1.transpose().leftCols<2>() * dq) + (0.5 * h) * M1;
-  out.p = p_minus + c1 * u_k1;
+  out.p = equation.p_minus() + c1 * u_k1;
   out.q = in.q + dq;
   out.R = R1;
   out.M = M1;
   return summary;
+}
+
+CartPendulumStepEquation::InputJacobian CartPendulumStepEquation::J_G_in(const Mat3& F) const {
+  // Variations of b and of P (n -> n + hat(n) eta) at fixed F; a = (F - I) d.
+  const Vec3 a = (F - Mat3::Identity()) * S_.d;
+  const Vec3 Rp = RtE_ * p_minus_;
+  InputJacobian J = InputJacobian::Zero();
+  // -h^2/2 dM_k/deta, dM/deta = m g hat(d) hat(n) (n moves by hat(n) eta).
+  J.block<3, 3>(0, 0) = kappa_ * D_ * (n_.dot(a) * Mat3::Identity() + n_ * a.transpose()) * so3::hat(n_) -
+                        (0.5 * h_ * h_ * (m_ * S_.gravity)) * D_ * so3::hat(n_) + (m_ * h_ / total_) * D_ * so3::hat(Rp);
+  J.block<3, 3>(0, 5) = -h_ * Mat3::Identity();
+  const Eigen::Matrix<double, 3, 2> J_G_p = (m_ * h_ / total_) * D_ * RtE_;
+  J.block<3, 2>(0, 8) = J_G_p;
+  J.block<3, 2>(0, 10) = c0_ * J_G_p;
+  return J;
+}
+
+void CartPendulumLgvi::linearize(const State& in, const State& out, double h, const Control& u_k,
+                                 const Control& /*u_k1*/, StateJacobian& J_out_in, ControlJacobian& J_out_uk,
+                                 ControlJacobian& J_out_uk1) const {
+  const CartPendulum& S = system_;
+  const auto [c0, c1] = impulse_weights(form_, h);
+  const double m = S.mass, total = S.cart_mass + S.mass;
+  const Mat3& Jd = S.inertia.Jd;
+  const Mat3 D = so3::hat(S.d);
+  const Mat3 F = in.R.transpose() * out.R;
+  const Vec3 a = (F - Mat3::Identity()) * S.d;
+  const Eigen::Matrix<double, 3, 2> RtE = in.R.transpose().leftCols<2>();
+
+  // G(F; w_k, u_k) = 0 with F -> F exp(hat xi): dxi/d[w_k; u_k] = -J_G_xi^{-1} J_G_in.
+  const CartPendulumStepEquation equation(S, in, h, c0, u_k);
+  const Eigen::Matrix<double, 3, 12> X = -equation.J_G_xi(F).partialPivLu().solve(equation.J_G_in(F));
+
+  // eta' = F^T eta + xi.
+  Eigen::Matrix<double, 3, 12> Eta = X;
+  Eta.block<3, 3>(0, 0) += F.transpose();
+  // delta = (h p^- - m E^T R (F - I) d) / (M + m), the cart's displacement.
+  Eigen::Matrix<double, 2, 12> Delta = (m / total) * RtE.transpose() * F * D * X;
+  Delta.block<2, 3>(0, 0) += (m / total) * RtE.transpose() * so3::hat(a);
+  Delta.block<2, 2>(0, 8) += (h / total) * Eigen::Matrix2d::Identity();
+  Delta.block<2, 2>(0, 10) += (c0 * h / total) * Eigen::Matrix2d::Identity();
+  // Pi' = vee(Jd A - A^T Jd)/h + m/h d x R'^T E delta + h/2 M(R').
+  const Vec2 delta = out.q - in.q;
+  const Eigen::Matrix<double, 3, 2> E1 = out.R.transpose().leftCols<2>();
+  const Vec3 n1 = out.R.row(2).transpose();
+  const Mat3 FtJ = F.transpose() * Jd;
+  const Mat3 L2 = FtJ.trace() * Mat3::Identity() - FtJ;
+  const Eigen::Matrix<double, 3, 12> Pi = (L2 / h) * X + (m / h) * D * so3::hat(E1 * delta) * Eta +
+                                          (m / h) * D * E1 * Delta + (0.5 * h * (m * S.gravity)) * D * so3::hat(n1) * Eta;
+
+  J_out_in.setZero();
+  J_out_uk.setZero();
+  J_out_uk1.setZero();
+  J_out_in.block<3, 10>(0, 0) = Eta.leftCols<10>();
+  J_out_uk.block<3, 2>(0, 0) = Eta.rightCols<2>();
+  J_out_in.block<2, 10>(3, 0) = Delta.leftCols<10>();
+  J_out_in.block<2, 2>(3, 3) += Eigen::Matrix2d::Identity();
+  J_out_uk.block<2, 2>(3, 0) = Delta.rightCols<2>();
+  J_out_in.block<3, 10>(5, 0) = Pi.leftCols<10>();
+  J_out_uk.block<3, 2>(5, 0) = Pi.rightCols<2>();
+  J_out_in.block<2, 2>(8, 8) = Eigen::Matrix2d::Identity();
+  J_out_uk.block<2, 2>(8, 0) = c0 * Eigen::Matrix2d::Identity();
+  J_out_uk1.block<2, 2>(8, 0) = c1 * Eigen::Matrix2d::Identity();
 }
 
 ConnectedBodiesLgvi::State ConnectedBodiesLgvi::make_state(const Mat3& R1, const Mat3& R2,
@@ -123,36 +166,12 @@ LGVI_FLATTEN RotationUpdateSummary ConnectedBodiesLgvi::step(const State& in, do
   const Mat3& K1 = S.reduced1.Jd;
   const Mat3& K2 = S.reduced2.Jd;
   const Vec3 &d1 = S.d1, &d2 = S.d2;
-  const Mat3 D1 = so3::hat(d1), D2 = so3::hat(d2);
-  const Mat3 R12 = in.R1.transpose() * in.R2;
-  Vec3 hPi1 = h * in.Pi1, hPi2 = h * in.Pi2;
-  if (c0 != 0.0) {
-    hPi1 += (h * c0) * (in.R1.transpose() * u_k);
-    hPi2 -= (h * c0) * (in.R2.transpose() * u_k);
-  }
-  const double rhs_scale = hPi1.norm() + hPi2.norm();
-
-  // In terms of A_i = F_i - I (see group_newton.hpp): a_i = R_i A_i d_i.
-  auto residual = [&](const std::array<Mat3, 2>& A, Vec6& G) {
-    const Vec3 t1 = vee_of_skew_product(A[0], K1);
-    const Vec3 t2 = vee_of_skew_product(A[1], K2);
-    const Vec3 x1 = mu * d1.cross(R12 * (A[1] * d2));              // mu d1 x R1^T a2
-    const Vec3 x2 = mu * d2.cross(R12.transpose() * (A[0] * d1));  // mu d2 x R2^T a1
-    G << t1 - x1 - hPi1, t2 - x2 - hPi2;
-    return t1.norm() + t2.norm() + x1.norm() + x2.norm() + rhs_scale;
-  };
-  const Mat3 mu_D1_R12 = mu * D1 * R12, mu_D2_R21 = mu * D2 * R12.transpose();
+  const ConnectedBodiesStepEquation equation(S, in, h, c0, u_k);
+  auto residual = [&](const std::array<Mat3, 2>& A, Vec6& G) { return equation.residual(A, G); };
   auto jacobian = [&](const std::array<Mat3, 2>& A, Mat6x6& DG) {
-    const Mat3 F1 = Mat3::Identity() + A[0], F2 = Mat3::Identity() + A[1];
-    DG.topLeftCorner<3, 3>() = J_G_xi(F1, K1);
-    DG.topRightCorner<3, 3>() = mu_D1_R12 * F2 * D2;
-    DG.bottomLeftCorner<3, 3>() = mu_D2_R21 * F1 * D1;
-    DG.bottomRightCorner<3, 3>() = J_G_xi(F2, K2);
+    DG = equation.J_G_xi(Mat3::Identity() + A[0], Mat3::Identity() + A[1]);
   };
-  // Warm start: at F = I the equations linearize to the mass matrix of eq. 47 times xi = h Omega.
-  Vec3 xi1, xi2;
-  S.velocities(in.R1, in.R2, hPi1, hPi2, xi1, xi2);
-  std::array<Mat3, 2> A{so3::exp_minus_identity(xi1), so3::exp_minus_identity(xi2)};
+  std::array<Mat3, 2> A = equation.initial_guess();
   const RotationUpdateSummary summary = solve_on_rotations<2>(A, residual, jacobian, options_);
   if (!summary.converged()) return summary;
 
@@ -165,6 +184,75 @@ LGVI_FLATTEN RotationUpdateSummary ConnectedBodiesLgvi::step(const State& in, do
   out.R1 = R1;
   out.R2 = R2;
   return summary;
+}
+
+ConnectedBodiesStepEquation::InputJacobian ConnectedBodiesStepEquation::J_G_in(const Mat3& F1, const Mat3& F2) const {
+  // a_i in body frames; R12 = R1_k^T R2_k varies as R12 -> R12 - hat(eta1) R12 + R12 hat(eta2).
+  const double mu = S_.mu;
+  const Vec3 a1 = (F1 - Mat3::Identity()) * S_.d1, a2 = (F2 - Mat3::Identity()) * S_.d2;
+  const double hc0 = h_ * c0_;
+  InputJacobian J = InputJacobian::Zero();
+  J.block<3, 3>(0, 0) = -mu * D1_ * so3::hat(R12_ * a2) - hc0 * so3::hat(in_.R1.transpose() * u_k_);
+  J.block<3, 3>(0, 3) = mu * D1_ * R12_ * so3::hat(a2);
+  J.block<3, 3>(0, 6) = -h_ * Mat3::Identity();
+  J.block<3, 3>(0, 12) = -hc0 * in_.R1.transpose();
+  J.block<3, 3>(3, 0) = mu * D2_ * R12_.transpose() * so3::hat(a1);
+  J.block<3, 3>(3, 3) = -mu * D2_ * so3::hat(R12_.transpose() * a1) + hc0 * so3::hat(in_.R2.transpose() * u_k_);
+  J.block<3, 3>(3, 9) = -h_ * Mat3::Identity();
+  J.block<3, 3>(3, 12) = hc0 * in_.R2.transpose();
+  return J;
+}
+
+void ConnectedBodiesLgvi::linearize(const State& in, const State& out, double h, const Control& u_k,
+                                    const Control& u_k1, StateJacobian& J_out_in, ControlJacobian& J_out_uk,
+                                    ControlJacobian& J_out_uk1) const {
+  const ConnectedBodies& S = system_;
+  const auto [c0, c1] = impulse_weights(form_, h);
+  const double mu = S.mu;
+  const Mat3 &K1 = S.reduced1.Jd, &K2 = S.reduced2.Jd;
+  const Mat3 D1 = so3::hat(S.d1), D2 = so3::hat(S.d2);
+  const Mat3 F1 = in.R1.transpose() * out.R1, F2 = in.R2.transpose() * out.R2;
+  const Vec3 a1 = (F1 - Mat3::Identity()) * S.d1, a2 = (F2 - Mat3::Identity()) * S.d2;  // body frames
+  const Mat3 R12 = in.R1.transpose() * in.R2;
+
+  // G(F1, F2; w_k, u_k) = 0 with F_i -> F_i exp(hat xi_i): dxi/d[w_k; u_k] = -J_G_xi^{-1} J_G_in.
+  const ConnectedBodiesStepEquation equation(S, in, h, c0, u_k);
+  const Eigen::Matrix<double, 6, 15> X = -equation.J_G_xi(F1, F2).partialPivLu().solve(equation.J_G_in(F1, F2));
+  const auto X1 = X.topRows<3>();
+  const auto X2 = X.bottomRows<3>();
+
+  Eigen::Matrix<double, 3, 15> Eta1 = X1, Eta2 = X2;
+  Eta1.block<3, 3>(0, 0) += F1.transpose();
+  Eta2.block<3, 3>(0, 3) += F2.transpose();
+  // x = R1'^T a2 (inertial a2) = F1^T R12 a2; y = F2^T R12^T a1.
+  const Vec3 x = F1.transpose() * R12 * a2, y = F2.transpose() * R12.transpose() * a1;
+  Eigen::Matrix<double, 3, 15> dx = so3::hat(x) * X1 - F1.transpose() * R12 * F2 * D2 * X2;
+  dx.block<3, 3>(0, 0) += F1.transpose() * so3::hat(R12 * a2);
+  dx.block<3, 3>(0, 3) -= F1.transpose() * R12 * so3::hat(a2);
+  Eigen::Matrix<double, 3, 15> dy = so3::hat(y) * X2 - F2.transpose() * R12.transpose() * F1 * D1 * X1;
+  dy.block<3, 3>(0, 3) += F2.transpose() * so3::hat(R12.transpose() * a1);
+  dy.block<3, 3>(0, 0) -= F2.transpose() * R12.transpose() * so3::hat(a1);
+  const Mat3 FK1 = F1.transpose() * K1, FK2 = F2.transpose() * K2;
+  const Mat3 L1 = FK1.trace() * Mat3::Identity() - FK1, L2 = FK2.trace() * Mat3::Identity() - FK2;
+  Eigen::Matrix<double, 3, 15> P1 = (L1 / h) * X1 - (mu / h) * D1 * dx;
+  Eigen::Matrix<double, 3, 15> P2 = (L2 / h) * X2 - (mu / h) * D2 * dy;
+  // The end kicks +-c1 R_i'^T u_{k+1}.
+  if (c1 != 0.0) {
+    P1 += c1 * so3::hat(out.R1.transpose() * u_k1) * Eta1;
+    P2 -= c1 * so3::hat(out.R2.transpose() * u_k1) * Eta2;
+  }
+  J_out_in.setZero();
+  J_out_in.block<3, 12>(0, 0) = Eta1.leftCols<12>();
+  J_out_in.block<3, 12>(3, 0) = Eta2.leftCols<12>();
+  J_out_in.block<3, 12>(6, 0) = P1.leftCols<12>();
+  J_out_in.block<3, 12>(9, 0) = P2.leftCols<12>();
+  J_out_uk.block<3, 3>(0, 0) = Eta1.rightCols<3>();
+  J_out_uk.block<3, 3>(3, 0) = Eta2.rightCols<3>();
+  J_out_uk.block<3, 3>(6, 0) = P1.rightCols<3>();
+  J_out_uk.block<3, 3>(9, 0) = P2.rightCols<3>();
+  J_out_uk1.setZero();
+  J_out_uk1.block<3, 3>(6, 0) = c1 * out.R1.transpose();
+  J_out_uk1.block<3, 3>(9, 0) = -c1 * out.R2.transpose();
 }
 
 }  // namespace lgvi

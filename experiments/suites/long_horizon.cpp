@@ -74,9 +74,8 @@ Suite long_horizon_suite(const SuiteParams& params) {
     const std::string time_label = "integrator wall time per run [s] (min of repeated serial runs)";
     const std::string evaluations_label = "evaluations (baselines: RHS calls; LGVI: substeps)";
     for (const auto& [scene, group] : groups) {
-      const std::string horizon =
-          "T = " + group.front()->text("t_final") + (scene == "dumbbell" ? " (orbit period 2π)" : " s");
       const SystemLabels units = system_labels(group.front()->text("system"));
+      const std::string horizon = "T = " + group.front()->text("t_final") + units.horizon_unit;
       const struct {
         const char* x;
         const char* y;

@@ -83,7 +83,7 @@ struct SystemBinding<CartPendulumModel> {
     return "t [s], R [1], Omega [rad/s], energy [J], momentum [kg m^2/s], x y [m], xdot ydot [m/s]";
   }
   static SystemLabels labels() {
-    return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]"};
+    return {"time [s]", "|E - E_0| [J]", "|e_3^T R Π + x p_y - y p_x - (...)_0| [kg m^2/s]", " s"};
   }
 
   template <class Drive>

@@ -91,7 +91,7 @@ struct SystemBinding<ConnectedBodiesModel> {
   static int printed_order(const M& m) { return m.control ? 1 : 2; }
   static void drop_controls(M& m) { m.control.reset(); }
   static std::string units() { return "t [s], R [1], Omega [rad/s], energy [J], momentum [kg m^2/s]"; }
-  static SystemLabels labels() { return {"time [s]", "|E - E_0| [J]", "|R_1 Π_1 + R_2 Π_2 - (...)_0| [kg m^2/s]"}; }
+  static SystemLabels labels() { return {"time [s]", "|E - E_0| [J]", "|R_1 Π_1 + R_2 Π_2 - (...)_0| [kg m^2/s]", " s"}; }
 
   template <class Drive>
   static Stats run_lgvi(const M& m, LgviForm form, const RotationUpdateOptions& /*options*/, Drive&& drive) {

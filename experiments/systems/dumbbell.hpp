@@ -93,7 +93,7 @@ struct SystemBinding<DumbbellModel> {
   }
   static SystemLabels labels() {
     return {"time [normalized: orbit period 2π]", "|E - E_0| [normalized]",
-            "|H - H_0| [normalized],  H = x × m v + R J Ω"};
+            "|H - H_0| [normalized],  H = x × m v + R J Ω", " (orbit period 2π)"};
   }
 
   template <class Drive>

@@ -21,7 +21,7 @@ struct SystemBinding<FreeBodyModel> : AttitudeBinding<FreeBodyModel> {
   static MomentumMap momentum_map() {
     return {"spatial angular momentum R J Omega", {"spatial_momentum1", "spatial_momentum2", "spatial_momentum3"}};
   }
-  static SystemLabels labels() { return {"time [s]", "|E - E_0| [J]", "|R J Ω - (R J Ω)_0| [kg m^2/s]"}; }
+  static SystemLabels labels() { return {"time [s]", "|E - E_0| [J]", "|R J Ω - (R J Ω)_0| [kg m^2/s]", " s"}; }
   /// The closed form (Celledoni et al. 2008) when uncontrolled; else nullopt and the reason.
   /// Throws InvalidInput for an initial state the closed form rejects (a separatrix).
   static std::optional<ExactReference> exact_solution(const FreeBodyModel& m, std::string& why_not) {

@@ -23,7 +23,7 @@ struct SystemBinding<PendulumModel> : AttitudeBinding<PendulumModel> {
   }
   static MomentumMap momentum_map() { return {"vertical angular momentum e3^T R J Omega", {"vertical_momentum"}}; }
   static SystemLabels labels() {
-    return {"time [s]", "|E - E_0| [J]", "|e_3^T R J Ω - (e_3^T R J Ω)_0| [kg m^2/s]"};
+    return {"time [s]", "|E - E_0| [J]", "|e_3^T R J Ω - (e_3^T R J Ω)_0| [kg m^2/s]", " s"};
   }
   /// The Lagrange top's closed form when uncontrolled and J is axisymmetric about rho (the free
   /// body's when there is no gravity torque); else nullopt and the reason. Throws InvalidInput

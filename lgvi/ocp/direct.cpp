@@ -39,66 +39,6 @@ ConnectedBodiesTransfer ConnectedBodiesTransfer::paper() {
 
 // --- cart-pendulum -----------------------------------------------------------------------------
 
-void CartPendulumDirectModel::step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
-                                             const VecU& u_k, const VecU& /*u_k1*/, MatW& A, MatWU& B0,
-                                             MatWU& B1) {
-  const CartPendulum& S = lgvi.system();
-  const auto [c0, c1] = impulse_weights(lgvi.form(), h);
-  const double m = S.mass, total = S.cart_mass + S.mass, kappa = m * m / total, mg = m * S.gravity;
-  const Mat3& Jd = S.inertia.Jd;
-  const Mat3 D = hat(S.d);
-  const Mat3 F = in.R.transpose() * out.R;
-  const Mat3 Am = F - Mat3::Identity();
-  const Vec3 a = Am * S.d;
-  const Vec2 p_minus = in.p + c0 * u_k;
-  const Eigen::Matrix<double, 3, 2> RtE = in.R.transpose().leftCols<2>();
-  const Vec3 n = in.R.row(2).transpose();
-  const Mat3 P = Mat3::Identity() - n * n.transpose();
-  const Vec3 Rp = RtE * p_minus;
-
-  // Implicit equation G(F; eta, Pi, p, u_k) = 0 (multibody_lgvi.cpp), F -> F exp(hat xi).
-  const Mat3 DG = J_G_xi(F, Jd) + kappa * D * P * F * D;
-  Eigen::Matrix<double, 3, 12> Gz = Eigen::Matrix<double, 3, 12>::Zero();  // [w (10), u_k (2)]
-  Gz.block<3, 3>(0, 0) = kappa * D * (n.dot(a) * Mat3::Identity() + n * a.transpose()) * hat(n) -
-                         (0.5 * h * h * mg) * D * hat(n) + (m * h / total) * D * hat(Rp);
-  Gz.block<3, 3>(0, 5) = -h * Mat3::Identity();
-  const Eigen::Matrix<double, 3, 2> Gp = (m * h / total) * D * RtE;
-  Gz.block<3, 2>(0, 8) = Gp;
-  Gz.block<3, 2>(0, 10) = c0 * Gp;
-  const Eigen::Matrix<double, 3, 12> X = -DG.partialPivLu().solve(Gz);  // dxi/d[w; u_k]
-
-  // eta' = F^T eta + xi.
-  Eigen::Matrix<double, 3, 12> Eta = X;
-  Eta.block<3, 3>(0, 0) += F.transpose();
-  // delta = (h p^- - m E^T R (F - I) d) / (M + m), the cart's displacement.
-  Eigen::Matrix<double, 2, 12> Delta = (m / total) * RtE.transpose() * F * D * X;
-  Delta.block<2, 3>(0, 0) += (m / total) * RtE.transpose() * hat(a);
-  Delta.block<2, 2>(0, 8) += (h / total) * Eigen::Matrix2d::Identity();
-  Delta.block<2, 2>(0, 10) += (c0 * h / total) * Eigen::Matrix2d::Identity();
-  // Pi' = vee(Jd A - A^T Jd)/h + m/h d x R'^T E delta + h/2 M(R').
-  const Vec2 delta = out.q - in.q;
-  const Eigen::Matrix<double, 3, 2> E1 = out.R.transpose().leftCols<2>();
-  const Vec3 n1 = out.R.row(2).transpose();
-  const Mat3 FtJ = F.transpose() * Jd;
-  const Mat3 L2 = FtJ.trace() * Mat3::Identity() - FtJ;
-  const Eigen::Matrix<double, 3, 12> Pi = (L2 / h) * X + (m / h) * D * hat(E1 * delta) * Eta +
-                                          (m / h) * D * E1 * Delta + (0.5 * h * mg) * D * hat(n1) * Eta;
-
-  A.setZero();
-  B0.setZero();
-  B1.setZero();
-  A.block<3, 10>(0, 0) = Eta.leftCols<10>();
-  B0.block<3, 2>(0, 0) = Eta.rightCols<2>();
-  A.block<2, 10>(3, 0) = Delta.leftCols<10>();
-  A.block<2, 2>(3, 3) += Eigen::Matrix2d::Identity();
-  B0.block<2, 2>(3, 0) = Delta.rightCols<2>();
-  A.block<3, 10>(5, 0) = Pi.leftCols<10>();
-  B0.block<3, 2>(5, 0) = Pi.rightCols<2>();
-  A.block<2, 2>(8, 8) = Eigen::Matrix2d::Identity();
-  B0.block<2, 2>(8, 0) = c0 * Eigen::Matrix2d::Identity();
-  B1.block<2, 2>(8, 0) = c1 * Eigen::Matrix2d::Identity();
-}
-
 CartPendulumDirectModel::VecR CartPendulumDirectModel::residual(const Lgvi& lgvi, const Transfer& p,
                                                                 const State& sN) {
   Vec3 Omega;
@@ -153,71 +93,6 @@ CartPendulumDirectModel::VecW CartPendulumDirectModel::difference(const State& a
 }
 
 // --- connected bodies --------------------------------------------------------------------------
-
-void ConnectedBodiesDirectModel::step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
-                                                const VecU& u_k, const VecU& u_k1, MatW& A, MatWU& B0,
-                                                MatWU& B1) {
-  const ConnectedBodies& S = lgvi.system();
-  const auto [c0, c1] = impulse_weights(lgvi.form(), h);
-  const double mu = S.mu;
-  const Mat3 &K1 = S.reduced1.Jd, &K2 = S.reduced2.Jd;
-  const Mat3 D1 = hat(S.d1), D2 = hat(S.d2);
-  const Mat3 F1 = in.R1.transpose() * out.R1, F2 = in.R2.transpose() * out.R2;
-  const Vec3 a1 = (F1 - Mat3::Identity()) * S.d1, a2 = (F2 - Mat3::Identity()) * S.d2;  // body frames
-  const Mat3 R12 = in.R1.transpose() * in.R2;
-
-  // G = 0 (eqs. 40-41), F_i -> F_i exp(hat xi_i); columns [eta1 eta2 Pi1 Pi2 u_k].
-  Mat6x6 DG;
-  DG.topLeftCorner<3, 3>() = J_G_xi(F1, K1);
-  DG.topRightCorner<3, 3>() = mu * D1 * R12 * F2 * D2;
-  DG.bottomLeftCorner<3, 3>() = mu * D2 * R12.transpose() * F1 * D1;
-  DG.bottomRightCorner<3, 3>() = J_G_xi(F2, K2);
-  Eigen::Matrix<double, 6, 15> Gz = Eigen::Matrix<double, 6, 15>::Zero();
-  Gz.block<3, 3>(0, 0) = -mu * D1 * hat(R12 * a2) - (h * c0) * hat(in.R1.transpose() * u_k);
-  Gz.block<3, 3>(0, 3) = mu * D1 * R12 * hat(a2);
-  Gz.block<3, 3>(0, 6) = -h * Mat3::Identity();
-  Gz.block<3, 3>(0, 12) = -(h * c0) * in.R1.transpose();
-  Gz.block<3, 3>(3, 0) = mu * D2 * R12.transpose() * hat(a1);
-  Gz.block<3, 3>(3, 3) = -mu * D2 * hat(R12.transpose() * a1) + (h * c0) * hat(in.R2.transpose() * u_k);
-  Gz.block<3, 3>(3, 9) = -h * Mat3::Identity();
-  Gz.block<3, 3>(3, 12) = (h * c0) * in.R2.transpose();
-  const Eigen::Matrix<double, 6, 15> X = -DG.partialPivLu().solve(Gz);
-  const auto X1 = X.topRows<3>();
-  const auto X2 = X.bottomRows<3>();
-
-  Eigen::Matrix<double, 3, 15> Eta1 = X1, Eta2 = X2;
-  Eta1.block<3, 3>(0, 0) += F1.transpose();
-  Eta2.block<3, 3>(0, 3) += F2.transpose();
-  // x = R1'^T a2 (inertial a2) = F1^T R12 a2; y = F2^T R12^T a1.
-  const Vec3 x = F1.transpose() * R12 * a2, y = F2.transpose() * R12.transpose() * a1;
-  Eigen::Matrix<double, 3, 15> dx = hat(x) * X1 - F1.transpose() * R12 * F2 * D2 * X2;
-  dx.block<3, 3>(0, 0) += F1.transpose() * hat(R12 * a2);
-  dx.block<3, 3>(0, 3) -= F1.transpose() * R12 * hat(a2);
-  Eigen::Matrix<double, 3, 15> dy = hat(y) * X2 - F2.transpose() * R12.transpose() * F1 * D1 * X1;
-  dy.block<3, 3>(0, 3) += F2.transpose() * hat(R12.transpose() * a1);
-  dy.block<3, 3>(0, 0) -= F2.transpose() * R12.transpose() * hat(a1);
-  const Mat3 FK1 = F1.transpose() * K1, FK2 = F2.transpose() * K2;
-  const Mat3 L1 = FK1.trace() * Mat3::Identity() - FK1, L2 = FK2.trace() * Mat3::Identity() - FK2;
-  Eigen::Matrix<double, 3, 15> P1 = (L1 / h) * X1 - (mu / h) * D1 * dx;
-  Eigen::Matrix<double, 3, 15> P2 = (L2 / h) * X2 - (mu / h) * D2 * dy;
-  // The end kicks +-c1 R_i'^T u_{k+1}.
-  if (c1 != 0.0) {
-    P1 += c1 * hat(out.R1.transpose() * u_k1) * Eta1;
-    P2 -= c1 * hat(out.R2.transpose() * u_k1) * Eta2;
-  }
-  A.setZero();
-  A.block<3, 12>(0, 0) = Eta1.leftCols<12>();
-  A.block<3, 12>(3, 0) = Eta2.leftCols<12>();
-  A.block<3, 12>(6, 0) = P1.leftCols<12>();
-  A.block<3, 12>(9, 0) = P2.leftCols<12>();
-  B0.block<3, 3>(0, 0) = Eta1.rightCols<3>();
-  B0.block<3, 3>(3, 0) = Eta2.rightCols<3>();
-  B0.block<3, 3>(6, 0) = P1.rightCols<3>();
-  B0.block<3, 3>(9, 0) = P2.rightCols<3>();
-  B1.setZero();
-  B1.block<3, 3>(6, 0) = c1 * out.R1.transpose();
-  B1.block<3, 3>(9, 0) = -c1 * out.R2.transpose();
-}
 
 ConnectedBodiesDirectModel::VecR ConnectedBodiesDirectModel::residual(const Lgvi& lgvi, const Transfer& p,
                                                                       const State& sN) {
@@ -480,7 +355,7 @@ bool DirectTranscription<Model>::advance(State& s, std::size_t k_begin, std::siz
     }
     if (gradients) {
       // Phi_{k+1} = A_k Phi_k + B0_k du_k/dc + B1_k du_{k+1}/dc (knot columns first).
-      Model::step_jacobians(lgvi_, s, next, h_, u0, u1, A, B0, B1);
+      lgvi_.linearize(s, next, h_, u0, u1, A, B0, B1);
       e.Phi_next.noalias() = A * e.Phi;
       for (int a = 0; a < nu; ++a) {
         e.Phi_next.middleCols(a * knots_, knots_).noalias() +=

@@ -87,10 +87,7 @@ struct CartPendulumDirectModel : DirectModelDimensions<10, 2, 10, 10> {
   using State = CartPendulumState;
   using Transfer = CartPendulumTransfer;
 
-  /// A = dw_{k+1}/dw_k, B0 = dw_{k+1}/du_k, B1 = dw_{k+1}/du_{k+1} of step(in, h, u_k, u_k1) = out
-  /// (out must be that step's converged result). Allocates nothing.
-  static void step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
-                             const VecU& u_k, const VecU& u_k1, MatW& A, MatWU& B0, MatWU& B1);
+  // The linearized step (A, B0, B1): Lgvi::linearize, beside the flow (lgvi/multibody_lgvi.*).
   /// Full terminal residual (see the header comment) and its Jacobian D = dr/dw_N.
   static VecR residual(const Lgvi& lgvi, const Transfer& p, const State& sN);
   static MatRW residual_jacobian(const Lgvi& lgvi, const Transfer& p, const State& sN);
@@ -118,8 +115,6 @@ struct ConnectedBodiesDirectModel : DirectModelDimensions<12, 3, 9, 12> {
   using State = ConnectedBodiesState;
   using Transfer = ConnectedBodiesTransfer;
 
-  static void step_jacobians(const Lgvi& lgvi, const State& in, const State& out, double h,
-                             const VecU& u_k, const VecU& u_k1, MatW& A, MatWU& B0, MatWU& B1);
   static VecR residual(const Lgvi& lgvi, const Transfer& p, const State& sN);
   static MatRW residual_jacobian(const Lgvi& lgvi, const Transfer& p, const State& sN);
   static State initial_state(const Lgvi& lgvi, const Transfer& p) {

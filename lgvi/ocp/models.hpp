@@ -86,10 +86,7 @@ struct PendulumModel : ModelDimensions<3, 3> {
   }
 
   MatQU control_matrix(const Mat3& R, const Vec3& /*x*/) const { return so3::hat(R.row(2).transpose()); }
-  MatQ force_jacobian(const Mat3& R, const Vec3& /*x*/, const VecU& u) const {
-    const Vec3 a = R.row(2).transpose();
-    return so3::hat(system.mass * system.gravity * system.rho - u) * so3::hat(a);
-  }
+  MatQ force_jacobian(const Mat3& R, const Vec3& /*x*/, const VecU& u) const { return system.J_moment_eta(R, u); }
   MatQ force_jacobian_transpose_derivative(const Mat3& R, const Vec3& /*x*/, const VecU& u,
                                            const VecQ& nu) const {
     const Vec3 a = R.row(2).transpose();
@@ -100,12 +97,7 @@ struct PendulumModel : ModelDimensions<3, 3> {
     return so3::hat(nu) * so3::hat(R.row(2).transpose());
   }
   /// Gradient of the conserved vertical momentum e3^T R Pi in the tangent [eta; dPi].
-  static VecS conserved_gradient(const State& s) {
-    const Vec3 a = s.R.row(2).transpose();
-    VecS g;
-    g << s.Pi.cross(a), a;
-    return g;
-  }
+  static VecS conserved_gradient(const State& s) { return Pendulum3D::vertical_momentum_gradient(s.R, s.Pi); }
 };
 
 /// The free rigid body with a body-frame control moment u (FreeRigidBody::control_moment): a

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "lgvi/inertia.hpp"
+#include "lgvi/so3.hpp"
 #include "lgvi/systems/system.hpp"
 #include "lgvi/types.hpp"
 
@@ -39,12 +40,26 @@ struct Pendulum3D {
   Vec3 control_moment(const Mat3& R, const Control& u) const {
     return R.row(2).transpose().cross(u);
   }
+  /// J_moment_eta = d(M + R^T e3 x u)/deta, the applied moment's derivative for
+  /// R -> R exp(hat eta): with a = R^T e3 (moving by hat(a) eta), M + a x u = (m g rho - u) x a, so
+  /// hat(m g rho - u) hat(a).
+  Mat3 J_moment_eta(const Mat3& R, const Control& u) const {
+    return so3::hat(mass * gravity * rho - u) * so3::hat(R.row(2).transpose());
+  }
   double energy(const Mat3& R, const Vec3& Omega) const {
     return 0.5 * Omega.dot(inertia.J * Omega) + potential(R);
   }
   /// e3^T R J Omega (section 3.2), the momentum map of rotations about the vertical.
   double vertical_momentum(const Mat3& R, const Vec3& Omega) const {
     return R.row(2).dot(inertia.J * Omega);
+  }
+  /// Gradient of the vertical momentum e3^T R Pi (Pi = J Omega) in the tangent [eta; dPi]:
+  /// [Pi x a; a], a = R^T e3.
+  static Eigen::Matrix<double, 6, 1> vertical_momentum_gradient(const Mat3& R, const Vec3& Pi) {
+    const Vec3 a = R.row(2).transpose();
+    Eigen::Matrix<double, 6, 1> g;
+    g << Pi.cross(a), a;
+    return g;
   }
 };
 

@@ -170,7 +170,7 @@ TEST(Pontryagin, ConvergesAndAgreesWithTheDiscreteOptimum) {
   EXPECT_LT(std::abs(r.summary.cost - (d1.cost - e_h)), 0.1 * std::abs(e_h));
   // The discrete multipliers approximate the costate: lambda_0 -> lambda(0) as h -> 0 (the
   // component along the symmetry direction v_g is arbitrary in both and removed first).
-  const Vec6 v_g = baselines::PendulumShootingFunction::conserved_gradient(Mat3::Identity(), Vec3::Zero()).normalized();
+  const Vec6 v_g = Pendulum3D::vertical_momentum_gradient(Mat3::Identity(), Vec3::Zero()).normalized();
   auto shape = [&](const Vec6& l) { return Vec6(l - v_g * v_g.dot(l)); };
   const double dl1 = (shape(d1.multiplier) - shape(r.summary.multiplier)).norm();
   const double dl2 = (shape(d2.multiplier) - shape(r.summary.multiplier)).norm();

@@ -124,6 +124,38 @@ TEST_P(PendulumAt, ControlMomentHasNoVerticalComponent) {
   }
 }
 
+// J_moment_eta = d(M + R^T e3 x u)/deta (the derivative the discrete linearization and the
+// continuous costate equations use) against central differences of the applied moment along
+// R -> R exp(hat eta); the moment's amplitude, and that of its derivatives, is m g |rho| + |u|.
+TEST_P(PendulumAt, MomentJacobianMatchesDifferences) {
+  const Mat3 R = GetParam().R;
+  auto rng = test::make_rng(703);
+  std::normal_distribution<double> normal;
+  const Vec3 u(normal(rng), normal(rng), normal(rng));
+  const auto applied = [&](const Mat3& Q) { return Vec3(p.moment(Q) + p.control_moment(Q, u)); };
+  Mat3 fd;
+  for (int j = 0; j < 3; ++j) {
+    const Vec3 d = kFdStep * Vec3::Unit(j);
+    fd.col(j) = (applied(R * so3::exp(d)) - applied(R * so3::exp(-d))) / (2.0 * kFdStep);
+  }
+  EXPECT_LE((p.J_moment_eta(R, u) - fd).norm(), kFdTolerance * (scale() + u.norm()));
+}
+
+// The vertical momentum's gradient [Pi x a; a] against central differences of e3^T R Pi in the
+// tangent [eta; dPi]; the amplitude of e3^T R Pi and of its derivatives is |Pi| + 1.
+TEST_P(PendulumAt, VerticalMomentumGradientMatchesDifferences) {
+  const Mat3 R = GetParam().R;
+  const Vec3 Pi(0.3, -1.2, 0.7);
+  const auto C = [](const Mat3& Q, const Vec3& P) { return Q.row(2).dot(P); };
+  Eigen::Matrix<double, 6, 1> fd;
+  for (int j = 0; j < 3; ++j) {
+    const Vec3 d = kFdStep * Vec3::Unit(j);
+    fd(j) = (C(R * so3::exp(d), Pi) - C(R * so3::exp(-d), Pi)) / (2.0 * kFdStep);
+    fd(3 + j) = (C(R, Pi + d) - C(R, Pi - d)) / (2.0 * kFdStep);
+  }
+  EXPECT_LE((Pendulum3D::vertical_momentum_gradient(R, Pi) - fd).norm(), kFdTolerance * (1.0 + Pi.norm()));
+}
+
 INSTANTIATE_TEST_SUITE_P(Attitudes, PendulumAt, testing::ValuesIn(attitudes()), attitude_name);
 
 TEST(Pendulum3D, PaperParameters) {
