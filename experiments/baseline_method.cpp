@@ -114,10 +114,11 @@ class BaselineMethod final : public Method {
       // The worse of the bodies' quaternions.
       sample.quaternion_norm_error = *std::max_element(d.quaternion_norm_error.begin(), d.quaternion_norm_error.end());
       sample.newton_iterations = 0;
-      recorder.record(ks[i], sample);
-      return true;
+      return recorder.record(ks[i], sample);  // false for a non-finite value: stop_on_non_finite below
     };
-    return baselines::integrate(info_.name, ode, std::span<const double>(y0.data(), y0.size()), times, s, observer);
+    Stats stats = baselines::integrate(info_.name, ode, std::span<const double>(y0.data(), y0.size()), times, s, observer);
+    recorder.stop_on_non_finite(stats);
+    return stats;
   }
 
   /// How the output grid is sampled (CSV metadata "sampling").

@@ -72,7 +72,7 @@ class LgviMethod final : public Method {
         to_state(s, record);
         sample.t = t;
         sample.newton_iterations = r.iterations;
-        recorder.record(k, sample);
+        if (!recorder.record(k, sample)) return false;  // a non-finite value: stop_on_non_finite below
         next_written += hz.output_every;
       }
       iterations_last = r.iterations;
@@ -91,8 +91,9 @@ class LgviMethod final : public Method {
       to_state(std::as_const(state), record);
       sample.t = static_cast<double>(stats.steps) * hz.h;
       sample.newton_iterations = iterations_last;
-      recorder.record(stats.steps, sample);
+      (void)recorder.record(stats.steps, sample);
     }
+    recorder.stop_on_non_finite(stats);
     return stats;
   }
 

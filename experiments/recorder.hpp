@@ -12,6 +12,7 @@
 
 #include "experiments/csv_writer.hpp"
 #include "experiments/scene.hpp"
+#include "lgvi/integrate.hpp"
 #include "lgvi/types.hpp"
 
 namespace lgvi::experiments {
@@ -118,8 +119,14 @@ class Recorder {
 
   /// Records the sample of step k: k = 0, output_every, 2 output_every, ... and the last step
   /// (every method passes only those; a k that is not a multiple of output_every is held until
-  /// finish(), so it must be the last).
-  void record(std::size_t k, const Sample& sample);
+  /// finish(), so it must be the last). False when a value of the row (a state entry, the
+  /// energy, the momentum map, an error) is not finite: nothing of the sample is kept or
+  /// written, and the method stops the run (its observer returns false, then
+  /// stop_on_non_finite names the step, time and quantity).
+  bool record(std::size_t k, const Sample& sample);
+  /// When record() refused a sample: `stats` becomes NonFiniteState at that sample's step and
+  /// time, failure_detail naming the column ("energy is not finite ..."). Otherwise unchanged.
+  void stop_on_non_finite(Stats& stats) const;
   /// Writes the last recorded sample if its k was not a multiple of output_every, so a CSV
   /// always ends at the last step computed (t_final, or the last good step of a failed run).
   void finish();
@@ -140,7 +147,13 @@ class Recorder {
   std::size_t columns_;
   Diagnostics diagnostics_;
   Vec3 momentum0_ = Vec3::Zero();
+  std::vector<std::string> column_names_;
+  std::size_t state_columns_ = 0;  ///< t and the state's columns, the first of the row
   std::array<double, kMaxColumns> row_{};
+  /// The sample record() refused (a non-finite value): its step, time and column.
+  std::size_t non_finite_step_ = 0;
+  double non_finite_time_ = 0.0;
+  const std::string* non_finite_column_ = nullptr;
   bool row_pending_ = false;
   std::size_t samples_ = 0;
   Sample last_;

@@ -212,6 +212,10 @@ struct Scene {
   LgviForm form = LgviForm::Symmetric;
   /// The [ocp] table (the optimal control problem), null when the scene has none.
   std::shared_ptr<const OcpDefinition> ocp;
+  /// Suspicious but accepted input, one line each naming the file: a text whose last line has no
+  /// newline ("FILE: does not end with a newline: the file may be truncated"). load_scene prints
+  /// them on stderr; parse_scene only fills them in.
+  std::vector<std::string> warnings;
 
   const char* system() const { return system_name(model); }
 };
@@ -225,7 +229,8 @@ struct SceneOverrides {
 };
 
 /// Reads and validates a scene file (at most kMaxSceneBytes are read: a device or a huge file is
-/// refused, not loaded). Throws SceneError (never anything else for bad input).
+/// refused, not loaded). Throws SceneError (never anything else for bad input). The scene's
+/// warnings go to stderr as "warning: ..." lines, once per file per process.
 Scene load_scene(const std::filesystem::path& file, const SceneOverrides& overrides = {});
 
 /// Same from TOML text; `file` names the source in messages and gives the scene name.

@@ -1,35 +1,22 @@
 // "No heap allocation inside a step": the global allocation functions of this test program
-// count calls, and whole integrations must not add to the count.
+// count calls (allocation_counter.hpp), and whole integrations must not add to the count.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
 #include <new>
 
+#include "allocation_counter.hpp"
 #include "lgvi/composition.hpp"
 #include "lgvi/multibody_lgvi.hpp"
 #include "lgvi_cases.hpp"
-
-namespace {
-std::atomic<std::size_t> allocations{0};
-}
-
-void* operator new(std::size_t size) {
-  ++allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace lgvi::test {
 namespace {
 
 template <class Lgvi, class State, class Control>
 std::size_t allocations_during(const Lgvi& lgvi, State s, Control control) {
-  const std::size_t before = allocations.load();
+  const std::size_t before = allocation_count();
   const Stats stats = integrate(lgvi, s, 0.0, 1e-3, 1000, control, null_observer());
-  const std::size_t after = allocations.load();
+  const std::size_t after = allocation_count();
   EXPECT_TRUE(stats.ok());
   return after - before;
 }
@@ -78,10 +65,10 @@ TEST(LgviAllocation, MultibodyAndComposedStepsAllocateNothing) {
 
 // The counter itself works (otherwise the test above could not fail).
 TEST(LgviAllocation, CounterSeesAllocations) {
-  const std::size_t before = allocations.load();
+  const std::size_t before = allocation_count();
   void* p = ::operator new(sizeof(double));  // a direct call: not elidable like a new-expression
   ::operator delete(p);
-  EXPECT_GT(allocations.load(), before);
+  EXPECT_GT(allocation_count(), before);
 }
 
 }  // namespace
