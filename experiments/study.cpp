@@ -620,7 +620,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
       // A horizon and step the harness accepts (a whole number of steps), named in the study.
       const auto horizon_of = [&](double h, const std::string& field) {
         try {
-          return make_horizon(h, T, 1);
+          return make_horizon(h, T, 1, e.scene->last_step);
         } catch (const InvalidInput& err) {
           r.fail(field, "horizon T = " + number_text(T) + " of scene '" + e.name + "' with h = " + number_text(h) +
                             ": " + reason_of(err) +
