@@ -97,6 +97,8 @@ Stats integrate(const std::string& method, const Ode& ode, std::span<const doubl
     if (i > 0 && !(times[i] > times[i - 1])) throw InvalidInput("times", "must be strictly increasing");
     if (i > 0 && info.step_control == StepControl::Fixed) {
       const double span = times[i] - times[i - 1];
+      // One step of span < h ends the run (fixed_step_loop takes max(1, round(span / h)) = 1 step).
+      if (s.shorter_last_step && i + 1 == times.size() && span < *s.h) continue;
       const double m = std::max(1.0, std::round(span / *s.h));
       if (std::abs(m * *s.h - span) > 1e-9 * span) {
         throw InvalidInput("h", "the output times are not on the grid of h = " + std::to_string(*s.h) +

@@ -127,6 +127,9 @@ struct SolverSettings {
   /// ~6 RHS). Without it, the steps these methods take at loose tolerances are too long for the
   /// quintic: see solver_detail.hpp. The run (steps, step-end states) is the same either way.
   bool hermite_midpoint = true;
+  /// Fixed-step methods: the last output interval may be one step shorter than h (a horizon that
+  /// is not a whole number of steps); every other interval stays a whole number of steps of h.
+  bool shorter_last_step = false;
 };
 
 /// The settings with defaults filled in, checked against the method and the model. Throws

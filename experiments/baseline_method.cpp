@@ -99,12 +99,21 @@ class BaselineMethod final : public Method {
     std::vector<std::size_t> ks;
     for (std::size_t k = 0; k <= hz.steps; k += hz.output_every) ks.push_back(k);
     if (ks.back() != hz.steps) ks.push_back(hz.steps);
+    // A fixed-step solver ends a shorter last step exactly on t_final: an output time at the end
+    // of the whole steps, not recorded (kUnrecorded), makes it step h up to there and then
+    // t_final - (steps - 1) h (fixed_step_loop); adaptive ones just integrate to t_final.
+    constexpr std::size_t kUnrecorded = static_cast<std::size_t>(-1);
+    const bool fixed = info_.step_control == StepControl::Fixed;
+    if (fixed && hz.shorter_last_step && ks[ks.size() - 2] != hz.whole_steps()) {
+      ks.insert(ks.end() - 1, kUnrecorded);
+    }
     std::vector<double> times;
     times.reserve(ks.size());
-    for (const std::size_t k : ks) times.push_back(static_cast<double>(k) * hz.h);
+    for (const std::size_t k : ks) times.push_back(hz.time(k == kUnrecorded ? hz.whole_steps() : k));
 
     SolverSettings s = settings_;
-    if (info_.step_control == StepControl::Fixed) s.h = hz.h;
+    if (fixed) s.h = hz.h;
+    if (fixed && hz.shorter_last_step) s.shorter_last_step = true;
     Sample sample = sample_of<M>();
     typename M::State& record = state_of<M>(sample);
     const auto observer = [&](std::size_t i, double t, const double* y) {
@@ -114,7 +123,9 @@ class BaselineMethod final : public Method {
       // The worse of the bodies' quaternions.
       sample.quaternion_norm_error = *std::max_element(d.quaternion_norm_error.begin(), d.quaternion_norm_error.end());
       sample.newton_iterations = 0;
-      return recorder.record(ks[i], sample);  // false for a non-finite value: stop_on_non_finite below
+      // A hidden output time (kUnrecorded: the grid point before a shorter last step) records nothing;
+      // a non-finite value stops the run (stop_on_non_finite below).
+      return ks[i] == kUnrecorded || recorder.record(ks[i], sample);
     };
     Stats stats = baselines::integrate(info_.name, ode, std::span<const double>(y0.data(), y0.size()), times, s, observer);
     recorder.stop_on_non_finite(stats);

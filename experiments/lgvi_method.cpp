@@ -79,17 +79,19 @@ class LgviMethod final : public Method {
       return true;
     };
     Stats stats;
+    // A shorter last step ends exactly on t_final (integrate's t_end).
+    const double* t_end = hz.shorter_last_step ? &hz.t_final : nullptr;
     if (scheme_) {
       const ComposedLgvi<Base> composed(base, *scheme_);
-      stats = integrate(composed, state, 0.0, hz.h, hz.steps, control, observer);
+      stats = integrate(composed, state, 0.0, hz.h, hz.whole_steps(), control, observer, t_end);
     } else {
-      stats = integrate(base, state, 0.0, hz.h, hz.steps, control, observer);
+      stats = integrate(base, state, 0.0, hz.h, hz.whole_steps(), control, observer, t_end);
     }
     // A run stopped between written steps: `state` is its last good step k = stats.steps, at
     // t = k h (integrate's grid, from t0 = 0), and its row is still owed.
     if (stats.steps % hz.output_every != 0 && stats.steps != hz.steps) {
       to_state(std::as_const(state), record);
-      sample.t = static_cast<double>(stats.steps) * hz.h;
+      sample.t = hz.time(stats.steps);
       sample.newton_iterations = iterations_last;
       (void)recorder.record(stats.steps, sample);
     }

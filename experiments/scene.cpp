@@ -478,7 +478,7 @@ template <class B>
 Model read_system(const SceneReader& r, const SceneTable& parameters, const SceneTable& initial,
                   const SceneTable& integration, const std::optional<SceneTable>& control) {
   B::check_keys(r, parameters, initial);
-  r.check_keys(integration, {"h", "t_final", "form", "output_every"});
+  r.check_keys(integration, {"h", "t_final", "form", "output_every", "last_step"});
   if (control) B::check_control_keys(r, *control);
   return B::read(r, parameters, initial, control);
 }
@@ -768,7 +768,13 @@ const char* system_name(const Model& model) {
   return std::visit([](const auto& m) { return std::decay_t<decltype(m)>::name; }, model);
 }
 
-Horizon make_horizon(double h, double t_final, std::int64_t output_every) {
+LastStep parse_last_step(const std::string& name) {
+  if (name == "error") return LastStep::Error;
+  if (name == "shorter") return LastStep::Shorter;
+  throw InvalidInput("last_step", "unknown value '" + name + "' (expected \"error\" or \"shorter\")");
+}
+
+Horizon make_horizon(double h, double t_final, std::int64_t output_every, LastStep last_step) {
   require_positive(h, "h");
   require_positive(t_final, "t_final");
   const double n = t_final / h;
@@ -777,15 +783,21 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every) {
     throw InvalidInput("t_final", "needs too many steps (t_final / h = " + format_number(n) +
                                       ", limit " + format_number(kMaxSteps) + ")");
   }
-  const double steps = std::round(n);
+  double steps = std::round(n);
+  const bool whole = std::abs(steps * h - t_final) <= 1e-9 * t_final;
+  const bool shorter = !whole && last_step == LastStep::Shorter;
+  if (shorter) steps = std::floor(n);
   if (steps < 1.0) {
     throw InvalidInput("t_final", "is shorter than one step (t_final = " + format_number(t_final) +
                                       ", h = " + format_number(h) + ")");
   }
-  if (std::abs(steps * h - t_final) > 1e-9 * t_final) {
+  if (!whole && !shorter) {
     throw InvalidInput("t_final", "is not a whole number of steps of h = " + format_number(h) +
                                       " (t_final / h = " + format_number(n) + ")");
   }
+  // floor(n) whole steps end short of t_final by more than the tolerance (else `whole`): the
+  // last step t_final - floor(n) h lies in (1e-9 t_final, h).
+  if (shorter) steps += 1.0;
   // Bounded by the step limit: a larger K writes the same two rows (first and last) as K = steps,
   // and next_written + K stays far from overflow.
   if (output_every < 1 || static_cast<double>(output_every) > kMaxSteps) {
@@ -797,6 +809,7 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every) {
   horizon.t_final = t_final;
   horizon.steps = static_cast<std::size_t>(steps);
   horizon.output_every = static_cast<std::size_t>(output_every);
+  horizon.shorter_last_step = shorter;
   return horizon;
 }
 
@@ -860,12 +873,16 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
     const std::string form = r.string(*f, "integration.form");
     scene.form = r.physics("integration.", [&] { return parse_lgvi_form(form); });
   }
+  if (const toml::node* l = integration->get("last_step")) {
+    const std::string last_step = r.string(*l, "integration.last_step");
+    scene.last_step = r.physics("integration.", [&] { return parse_last_step(last_step); });
+  }
   if (overrides.h) h = *overrides.h;
   if (overrides.t_final) t_final = *overrides.t_final;
   if (overrides.output_every) every = *overrides.output_every;
   if (overrides.form) scene.form = *overrides.form;
   try {
-    scene.horizon = make_horizon(h, t_final, every);
+    scene.horizon = make_horizon(h, t_final, every, scene.last_step);
   } catch (const InvalidInput& e) {
     std::vector<std::string> notes;  // which values came from the command line
     if (e.field() == "h" && overrides.h) notes.push_back("--h");
@@ -878,6 +895,10 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
     r.fail(field, reason_of(e));
   }
   if (ocp != nullptr) {
+    if (scene.horizon.shorter_last_step) {
+      r.fail("integration.last_step", "\"shorter\" is not allowed with [ocp]: the optimal control problem needs "
+                                      "t_final a whole number of steps of h");
+    }
     scene.ocp = read_ocp_table(reader, scene.model, SceneTableAccess::make(*parameters, "parameters"),
                                SceneTableAccess::make(*ocp, "ocp"));
   }

@@ -15,10 +15,12 @@
 //                  target): TimeControl, AttitudeFeedback
 //                  inertia = [J1, J2, J3] (principal moments) or a 3x3 array of arrays
 //   [integration]  h, t_final, form = "symmetric" | "printed" (default symmetric),
-//                  output_every (default 1)
+//                  output_every (default 1), last_step = "error" | "shorter" (default error)
 //
 // The horizon must be a whole number of steps: steps = round(t_final / h) and
 // |steps h - t_final| <= 1e-9 t_final. The state is sampled at t_k = k h, k = 0..steps.
+// With last_step = "shorter" another t_final takes floor(t_final / h) steps of h and a shorter
+// last one ending at t_final (Horizon::time).
 //
 // Admissible input (checked before and after parsing; everything else is a SceneError):
 //  - at most kMaxSceneBytes (1 MiB) of text, and at most kMaxSceneNesting (32) levels of
@@ -188,18 +190,38 @@ using Model = std::variant<FreeBodyModel, PendulumModel, DumbbellModel, CartPend
 /// "free-body", "pendulum", "dumbbell", "cart-pendulum" or "connected-bodies".
 const char* system_name(const Model& model);
 
+/// What a t_final that is not a whole number of steps of h means ([integration] last_step):
+/// an error (the default: a mistyped t_final is reported, not absorbed), or floor(t_final / h)
+/// steps of h and one shorter final step of t_final - floor(t_final / h) h.
+enum class LastStep { Error, Shorter };
+
+/// "error" or "shorter"; throws InvalidInput("last_step", ...) for anything else.
+LastStep parse_last_step(const std::string& name);
+
 /// The time grid and output decimation of a run (validated: see make_horizon).
 struct Horizon {
   double h = 0.0;
   double t_final = 0.0;
-  std::size_t steps = 0;  ///< round(t_final / h)
+  std::size_t steps = 0;  ///< round(t_final / h); with a shorter last step, floor(t_final / h) + 1
   std::size_t output_every = 1;
+  /// The last step (k = steps - 1 -> steps) is t_final - (steps - 1) h, shorter than h.
+  bool shorter_last_step = false;
+
+  /// t_k: k h, and t_final itself at the end of a shorter last step.
+  double time(std::size_t k) const {
+    return shorter_last_step && k == steps ? t_final : static_cast<double>(k) * h;
+  }
+  /// The steps of size h (all of them unless the last is shorter).
+  std::size_t whole_steps() const { return shorter_last_step ? steps - 1 : steps; }
+  double last_step() const { return shorter_last_step ? t_final - static_cast<double>(steps - 1) * h : h; }
 };
 
-/// Validates h > 0, t_final > 0 (finite), t_final a whole number of steps to 1e-9 relative,
-/// at most 1e12 steps, 1 <= output_every <= 1e12. Throws InvalidInput with field "h", "t_final" or
-/// "output_every".
-Horizon make_horizon(double h, double t_final, std::int64_t output_every);
+/// Validates h > 0, t_final > 0 (finite), at most 1e12 steps, 1 <= output_every <= 1e12, and
+/// t_final a whole number of steps to 1e-9 relative (|round(t_final / h) h - t_final| <=
+/// 1e-9 t_final) unless `last_step` is Shorter: then a t_final beyond that tolerance takes
+/// floor(t_final / h) >= 1 steps of h and one shorter step to t_final. Throws InvalidInput with
+/// field "h", "t_final" or "output_every".
+Horizon make_horizon(double h, double t_final, std::int64_t output_every, LastStep last_step = LastStep::Error);
 
 struct OcpDefinition;  // experiments/ocp_scene.hpp
 
@@ -216,6 +238,9 @@ struct Scene {
   /// newline ("FILE: does not end with a newline: the file may be truncated"). load_scene prints
   /// them on stderr; parse_scene only fills them in.
   std::vector<std::string> warnings;
+  /// [integration] last_step: how `horizon` was made from h and t_final (sweeps of h and t_final
+  /// built from this scene use it too).
+  LastStep last_step = LastStep::Error;
 
   const char* system() const { return system_name(model); }
 };

@@ -102,6 +102,7 @@ Fields RunSummary::to_fields() const {
       {"csv", csv.filename().string()},
   };
   f.insert(f.end(), rest.begin(), rest.end());
+  if (horizon.shorter_last_step) f.push_back({"last_step", horizon.last_step()});
   if (d.quaternion_norm_recorded) f.push_back({"max_quaternion_norm_error", d.max_quaternion_norm_error});
   return f;
 }
@@ -135,6 +136,7 @@ RunSummary simulate(const Scene& scene, const Method& method, const SimulateOpti
                        {"git_describe", std::string(git_describe())},
                        {"command_line", options.command_line}};
   leading.insert(leading.end(), grid.begin(), grid.end());
+  if (scene.horizon.shorter_last_step) leading.push_back({"last_step", scene.horizon.last_step()});
   leading.insert(leading.end(), options.extra_metadata.begin(), options.extra_metadata.end());
 
   const bool quaternion_column = method.records_quaternion_norm();

@@ -16,6 +16,7 @@
 #include "experiments/exact_reference.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/toml_text.hpp"
+#include "experiments/suite_journal.hpp"
 #include "experiments/suites/common.hpp"
 
 namespace lgvi::experiments {
@@ -583,6 +584,16 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
       scenes.push_back(read_scene(r, *a.get(i), field + "[" + std::to_string(i) + "]", file, params.scenes_dir));
     }
   }
+  // The files the cases come from, in the resume fingerprint (suite_journal.hpp): this file's
+  // bytes, and each scene file's bytes (named by file name: where it lies is in this file).
+  s.inputs.push_back({"the study file " + file.filename().string(), text_fnv1a64(std::string(toml_text))});
+  for (const SceneEntry& e : scenes) {
+    const SuiteInput in{"the scene file " + e.scene->file.filename().string(), file_fnv1a64(e.scene->file)};
+    const bool seen = std::any_of(s.inputs.begin(), s.inputs.end(), [&](const SuiteInput& x) {
+      return x.what == in.what && x.digest == in.digest;
+    });
+    if (!seen) s.inputs.push_back(in);
+  }
 
   if (!adaptive_methods.empty()) {
     for (const SceneEntry& e : scenes) {
@@ -620,7 +631,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
       // A horizon and step the harness accepts (a whole number of steps), named in the study.
       const auto horizon_of = [&](double h, const std::string& field) {
         try {
-          return make_horizon(h, T, 1);
+          return make_horizon(h, T, 1, e.scene->last_step);
         } catch (const InvalidInput& err) {
           r.fail(field, "horizon T = " + number_text(T) + " of scene '" + e.name + "' with h = " + number_text(h) +
                             ": " + reason_of(err) +

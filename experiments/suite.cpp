@@ -447,6 +447,16 @@ std::map<std::size_t, JournalEntry> resumable_entries(const Suite& suite, const 
   if (m.shard_index != options.shard.index || m.shard_count != options.shard.count) {
     throw refuse("shard " + std::to_string(m.shard_index) + "/" + std::to_string(m.shard_count));
   }
+  // A study's own files first: name the one that changed.
+  for (const SuiteInput& in : suite.inputs) {
+    const auto recorded = std::find_if(m.inputs.begin(), m.inputs.end(),
+                                       [&](const SuiteInput& r) { return r.what == in.what; });
+    if (recorded == m.inputs.end()) throw refuse("no " + in.what + " among the files its run was made from");
+    if (recorded->digest != in.digest) {
+      throw refuse(in.what + " with other contents (digest " + recorded->digest + ", now " + in.digest +
+                   "): the file was edited since");
+    }
+  }
   if (m.fingerprint != fingerprint) throw refuse("other cases or scene files (fingerprint " + m.fingerprint + ")");
   std::map<std::size_t, JournalEntry> kept;
   std::size_t dropped = 0;
@@ -501,7 +511,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   if (options.resume) finished_entries = resumable_entries(suite, options, indices, fingerprint, progress);
   SuiteManifest manifest{suite.name, options.quick, git_describe(), fingerprint,
                          options.shard.index, options.shard.count, suite.cases.size(), indices.size(),
-                         finished_entries.size(), false, ""};
+                         finished_entries.size(), false, "", suite.inputs};
   if (options.resume) rewrite_journal(options.out_dir, finished_entries);
   write_manifest(options.out_dir, manifest);
   JournalWriter journal(options.out_dir, /*truncate=*/!options.resume);

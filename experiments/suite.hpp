@@ -46,6 +46,7 @@
 #include <vector>
 
 #include "experiments/fields.hpp"
+#include "experiments/suite_journal.hpp"
 
 namespace lgvi::experiments {
 
@@ -198,6 +199,8 @@ struct Suite {
   std::string name;
   std::string description;
   std::vector<SuiteCase> cases;
+  /// The files a study read (empty for the built-in suites, whose code is the version).
+  std::vector<SuiteInput> inputs;
   /// summary.csv columns after the harness's own (index, case, group, expected, status,
   /// as_expected, detail); every case of the suite has them, empty where they do not apply.
   std::vector<std::string> columns;

@@ -69,6 +69,7 @@ std::string suite_fingerprint(const Suite& suite, bool quick, const fs::path& sc
   }
   std::sort(scenes.begin(), scenes.end());
   for (const fs::path& p : scenes) text += p.filename().string() + "\t" + file_fnv1a64(p) + "\n";
+  for (const SuiteInput& in : suite.inputs) text += "input\t" + in.what + "\t" + in.digest + "\n";
   return text_fnv1a64(text);
 }
 
@@ -76,7 +77,7 @@ fs::path manifest_path(const fs::path& out_dir) { return out_dir / "suite-run.js
 fs::path journal_path(const fs::path& out_dir) { return out_dir / "suite-journal.jsonl"; }
 
 void write_manifest(const fs::path& out_dir, const SuiteManifest& m) {
-  const json j = {{"suite", m.suite},
+  json j = {{"suite", m.suite},
                   {"quick", m.quick},
                   {"git_describe", m.git_describe},
                   {"fingerprint", m.fingerprint},
@@ -88,6 +89,11 @@ void write_manifest(const fs::path& out_dir, const SuiteManifest& m) {
                   {"finished", m.finished},
                   {"complete", m.complete},
                   {"interrupted_by", m.interrupted_by}};
+  if (!m.inputs.empty()) {
+    json inputs = json::array();
+    for (const SuiteInput& in : m.inputs) inputs.push_back({{"what", in.what}, {"digest", in.digest}});
+    j["inputs"] = inputs;
+  }
   AtomicFile f(manifest_path(out_dir));
   f.write(j.dump(1) + "\n");
   f.commit();
@@ -112,6 +118,11 @@ SuiteManifest read_manifest(const fs::path& out_dir) {
     m.finished = j.at("finished").get<std::size_t>();
     m.complete = j.at("complete").get<bool>();
     m.interrupted_by = j.value("interrupted_by", std::string());
+    if (j.contains("inputs")) {
+      for (const json& in : j.at("inputs")) {
+        m.inputs.push_back({in.at("what").get<std::string>(), in.at("digest").get<std::string>()});
+      }
+    }
   } catch (const json::exception& e) {
     throw InvalidInput(file.string(), std::string("malformed manifest: ") + e.what());
   }

@@ -25,6 +25,14 @@ namespace lgvi::experiments {
 
 struct Suite;
 
+/// A file a suite was made from, in its fingerprint (suite_fingerprint): the study file and the
+/// scene files it names. `what` names it in messages ("the study file x.toml"); `digest` is
+/// the FNV-1a 64 of its bytes.
+struct SuiteInput {
+  std::string what;
+  std::string digest;
+};
+
 /// A written file of a case: path relative to OUT, size, FNV-1a 64 digest (16 hex digits).
 struct FileDigest {
   std::string path;
@@ -38,8 +46,9 @@ std::string file_fnv1a64(const std::filesystem::path& file);
 std::string text_fnv1a64(const std::string& text);
 
 /// The identity of a run's results: a digest of the suite's name, form (quick), version, its
-/// cases (ids, groups, expectations, labels, in order) and the bytes of the scene files
-/// (scenes_dir/*.toml, by name). Runs with equal fingerprints compute the same cases.
+/// cases (ids, groups, expectations, labels, in order), the bytes of the scene files
+/// (scenes_dir/*.toml, by name) and of the suite's inputs (a study's own file and the scene
+/// files it names, wherever they are). Runs with equal fingerprints compute the same cases.
 std::string suite_fingerprint(const Suite& suite, bool quick, const std::filesystem::path& scenes_dir);
 
 struct SuiteManifest {
@@ -54,6 +63,7 @@ struct SuiteManifest {
   std::size_t finished = 0;      ///< cases in the summary
   bool complete = false;         ///< every case of the shard finished
   std::string interrupted_by;    ///< "SIGINT", "SIGTERM" or ""
+  std::vector<SuiteInput> inputs;  ///< Suite::inputs ("inputs" in the JSON, only when there are any)
 };
 
 /// OUT/suite-run.json and OUT/suite-journal.jsonl.

@@ -66,9 +66,16 @@ struct Stats {
 /// Stops at the first failed rotation update, or at the first step whose result has a
 /// non-finite entry (status NonFiniteState, failure_detail naming the part: the state's
 /// non_finite_part(), found by argument-dependent lookup), leaving `state` at the last good step.
+/// With `t_end` non-null (t0 + steps h < *t_end < t0 + (steps + 1) h), one more, shorter step of
+/// h_last = *t_end - (t0 + steps h) follows, ending exactly at *t_end (observer index steps + 1).
+/// The flow maps step in position-momentum form (R_k, Pi_k) -> (R_{k+1}, Pi_{k+1}) with h an
+/// argument of each step, so a step of another size is the variational step of the discrete
+/// Lagrangian L_d(R_k, F_k) with h_last in place of h (eqs. 7-9): the discrete Legendre
+/// transforms of consecutive steps match whatever their sizes.
 template <FlowMap Integrator, class ControlFn, class Observer>
 Stats integrate(const Integrator& lgvi, typename Integrator::State& state, double t0, double h,
-                std::size_t steps, ControlFn&& control, Observer&& observer) {
+                std::size_t steps, ControlFn&& control, Observer&& observer,
+                const double* t_end = nullptr) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   Stats stats;
@@ -81,24 +88,30 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
   // Flow maps that sample the control inside the step (composition) take the control function.
   constexpr bool samples_control = requires { lgvi.step_at(state, t0, h, control, state); };
   typename Integrator::Control u_k = control(t0);
-  for (std::size_t k = 0; k < steps && stats.ok(); ++k) {
-    const double t1 = t0 + static_cast<double>(k + 1) * h;
+  const bool shorter_last = t_end != nullptr;
+  const double t_last = shorter_last ? *t_end : 0.0;
+  const std::size_t total_steps = steps + (shorter_last ? 1 : 0);
+  for (std::size_t k = 0; k < total_steps && stats.ok(); ++k) {
+    const bool last_shorter = k == steps;  // only with t_end
+    const double t_k = t0 + static_cast<double>(k) * h;
+    const double t1 = last_shorter ? t_last : t0 + static_cast<double>(k + 1) * h;
+    const double h_k = last_shorter ? t1 - t_k : h;
     // Kept to restore on a non-finite result: the step writes `state` in place (a few dozen
     // doubles copied per step, small beside the rotation update's solve).
     const typename Integrator::State last_good = state;
     RotationUpdateSummary s;
     typename Integrator::Control u_k1 = u_k;
     if constexpr (samples_control) {
-      s = lgvi.step_at(state, t0 + static_cast<double>(k) * h, h, control, state);
+      s = lgvi.step_at(state, t_k, h_k, control, state);
     } else {
       u_k1 = control(t1);
-      s = lgvi.step(state, h, u_k, u_k1, state);
+      s = lgvi.step(state, h_k, u_k, u_k1, state);
     }
     stats.newton_iterations += static_cast<std::size_t>(s.iterations);
     if (!s.converged()) {
       stats.status = IntegrationStatus::RotationUpdateFailed;
       stats.failed_step = k;
-      stats.failed_time = t0 + static_cast<double>(k) * h;
+      stats.failed_time = t_k;
       stats.failure = s;
       break;
     }
@@ -106,7 +119,7 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
       state = last_good;
       stats.status = IntegrationStatus::NonFiniteState;
       stats.failed_step = k;
-      stats.failed_time = t0 + static_cast<double>(k) * h;
+      stats.failed_time = t_k;
       stats.failure_detail = std::string(part) + " is not finite after the step (overflow: the state left the "
                                                   "range of double)";
       break;

@@ -211,6 +211,35 @@ TEST(StudyRun, ScenePathsAreRelativeToTheStudyFileAndNamedByTheirStem) {
       << "the summary names the scene, not the machine's path";
 }
 
+// --resume continues only the run of the same study file and the same scene files: an edit
+// to either (even one that leaves the case ids alone) is refused, naming the file.
+TEST(StudyRun, ResumeRefusesAnEditedStudyOrSceneFile) {
+  TempDir dir;
+  const std::string scene = edited_scene("free-body", "t_final = 50.0", "t_final = 0.5");
+  write_text(dir.scenes() / "my-body.toml", scene);
+  const fs::path file = dir.scenes() / "mine.toml";
+  const std::string study = "scenes = [\"my-body.toml\"]\nmethods = [\"lgvi\"]\nreference = \"none\"\n";
+  write_text(file, study);
+  const std::vector<std::string> resume = {"study", file.string(), "--out", "res", "--no-plots", "--resume"};
+  ASSERT_EQ(run_testbed(dir, {"study", file.string(), "--out", "res", "--no-plots"}).exit_code, 0);
+  // The same files: resumed (the finished case kept).
+  const CliResult same = run_testbed(dir, resume);
+  EXPECT_EQ(same.exit_code, 0) << same.err;
+
+  write_text(file, study + "description = \"edited\"\n");
+  const CliResult edited_study = run_testbed(dir, resume);
+  EXPECT_NE(edited_study.exit_code, 0);
+  EXPECT_NE(edited_study.err.find("the study file mine.toml with other contents"), std::string::npos)
+      << edited_study.err;
+
+  write_text(file, study);
+  write_text(dir.scenes() / "my-body.toml", scene + "# edited\n");
+  const CliResult edited_scene_file = run_testbed(dir, resume);
+  EXPECT_NE(edited_scene_file.exit_code, 0);
+  EXPECT_NE(edited_scene_file.err.find("the scene file my-body.toml with other contents"), std::string::npos)
+      << edited_scene_file.err;
+}
+
 TEST(StudyRun, TheShardsUnionIsTheWholeStudy) {
   TempDir dir;
   const fs::path file = dir.scenes() / "tiny.toml";
