@@ -78,17 +78,17 @@ fs::path journal_path(const fs::path& out_dir) { return out_dir / "suite-journal
 
 void write_manifest(const fs::path& out_dir, const SuiteManifest& m) {
   json j = {{"suite", m.suite},
-                  {"quick", m.quick},
-                  {"git_describe", m.git_describe},
-                  {"fingerprint", m.fingerprint},
-                  {"shard", std::to_string(m.shard_index) + "/" + std::to_string(m.shard_count)},
-                  {"shard_index", m.shard_index},
-                  {"shard_count", m.shard_count},
-                  {"suite_cases", m.suite_cases},
-                  {"shard_cases", m.shard_cases},
-                  {"finished", m.finished},
-                  {"complete", m.complete},
-                  {"interrupted_by", m.interrupted_by}};
+            {"quick", m.quick},
+            {"git_describe", m.git_describe},
+            {"fingerprint", m.fingerprint},
+            {"shard", std::to_string(m.shard_index) + "/" + std::to_string(m.shard_count)},
+            {"shard_index", m.shard_index},
+            {"shard_count", m.shard_count},
+            {"suite_cases", m.suite_cases},
+            {"shard_cases", m.shard_cases},
+            {"finished", m.finished},
+            {"complete", m.complete},
+            {"interrupted_by", m.interrupted_by}};
   if (!m.inputs.empty()) {
     json inputs = json::array();
     for (const SuiteInput& in : m.inputs) inputs.push_back({{"what", in.what}, {"digest", in.digest}});
