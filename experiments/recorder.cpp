@@ -48,11 +48,10 @@ double state_distance(const Model& model, const Sample& a, const Sample& b) {
 std::vector<std::string> Recorder::columns(const Model& model, bool quaternion_column) {
   std::vector<std::string> c = {"t"};
   visit_binding(model, [&](auto binding, const auto&) { decltype(binding)::state_columns(c); });
-  for (const char* name : {"energy", "energy_error", "orthogonality_error", "determinant_error"}) c.push_back(name);
-  if (quaternion_column) c.push_back("quaternion_norm_error");
+  for (const char* name : {"energy", "energy_error", "orthogonality_error", "determinant_error"}) c.emplace_back(name);
+  if (quaternion_column) c.emplace_back("quaternion_norm_error");
   for (const std::string& name : momentum_map(model).columns) c.push_back(name);
-  c.push_back("momentum_error");
-  c.push_back("newton_iterations");
+  for (const char* name : {"momentum_error", "newton_iterations"}) c.emplace_back(name);
   return c;
 }
 
