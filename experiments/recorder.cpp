@@ -56,8 +56,9 @@ std::vector<std::string> Recorder::columns(const Model& model, bool quaternion_c
 }
 
 Recorder::Recorder(const Model& model, std::size_t output_every, CsvWriter* csv, bool quaternion_column)
-    : model_(model), output_every_(output_every), csv_(csv), columns_(columns(model, quaternion_column).size()),
-      column_names_(columns(model, quaternion_column)), last_(sample_of(model)), quaternion_column_(quaternion_column) {
+    : model_(model), output_every_(output_every), csv_(csv), column_names_(columns(model, quaternion_column)),
+      last_(sample_of(model)), quaternion_column_(quaternion_column) {
+  columns_ = column_names_.size();  // the column list built once (columns_ is declared before it)
   diagnostics_.quaternion_norm_recorded = quaternion_column;
   std::vector<std::string> state = {"t"};
   visit_binding(model, [&](auto binding, const auto&) { decltype(binding)::state_columns(state); });
