@@ -32,6 +32,8 @@
 #include "baselines/mechanics.hpp"
 #include "baselines/ode.hpp"
 #include "lgvi/inertia.hpp"
+#include "lgvi/systems/free_rigid_body.hpp"
+#include "lgvi/systems/pendulum.hpp"
 
 namespace lgvi::baselines {
 
@@ -80,23 +82,7 @@ class CoordinateOde final : public Ode {
   /// The state of the paper's variables: attitudes, angular velocities, x and x'. Validates
   /// finiteness and that each R is a rotation (1e-10).
   State initial_state(const std::array<Mat3, N>& R, const std::array<Vec3, N>& Omega,
-                      const Vector<NX>& x = Vector<NX>::Zero(), const Vector<NX>& x_dot = Vector<NX>::Zero()) const {
-    State y;
-    Config config;
-    for (int i = 0; i < N; ++i) {
-      require_finite(R[i], "R0");
-      if (!so3::is_rotation(R[i], 1e-10)) throw InvalidInput("R0", "is not a rotation matrix (R^T R != I or det R != 1)");
-      require_finite(Omega[i], "Omega0");
-      y.template segment<C>(C * i) = Chart::from_rotation(R[i]);
-      config.R[i] = R[i];
-    }
-    require_finite(x, "x0");
-    require_finite(x_dot, "v0");
-    config.x = x;
-    y.template segment<NX>(kX) = x;
-    y.template segment<NW>(kW) = mechanics_.velocity_state(config, Omega, x_dot);
-    return y;
-  }
+                      const Vector<NX>& x = Vector<NX>::Zero(), const Vector<NX>& x_dot = Vector<NX>::Zero()) const;
 
   /// The paper's variables at y: R_i = Chart::rotation(c_i) (for the renormalized model, of the
   /// normalized quaternion: between two steps an interpolant is off the unit sphere by the local
@@ -107,24 +93,7 @@ class CoordinateOde final : public Ode {
     Rate rates;
     std::array<double, N> quaternion_norm_error{};
   };
-  Decoded decode(const double* y_ptr) const {
-    const Eigen::Map<const State> y(y_ptr);
-    Decoded d;
-    for (int i = 0; i < N; ++i) {
-      typename Chart::Coords c = y.template segment<C>(C * i);
-      if constexpr (std::is_same_v<Chart, QuaternionChart>) {
-        d.quaternion_norm_error[i] = Chart::norm_error(c);
-        if (renormalize_) {
-          c.normalize();
-          d.quaternion_norm_error[i] = Chart::norm_error(c);
-        }
-      }
-      d.config.R[i] = Chart::rotation(c);
-    }
-    d.config.x = y.template segment<NX>(kX);
-    mechanics_.rates(d.config, y.template segment<NW>(kW), d.rates);
-    return d;
-  }
+  Decoded decode(const double* y_ptr) const;
 
   int dimension() const override { return kDim; }
   std::string model_name() const override {
@@ -133,120 +102,9 @@ class CoordinateOde final : public Ode {
   }
   bool time_dependent() const override { return mechanics_.time_dependent(); }
 
-  RhsStatus rhs(double t, const double* y_ptr, double* ydot_ptr) const override {
-    const Eigen::Map<const State> y(y_ptr);
-    Eigen::Map<State> ydot(ydot_ptr);
-    if (singular(y)) return RhsStatus::Singular;
-    Config config;
-    for (int i = 0; i < N; ++i) config.R[i] = Chart::rotation(y.template segment<C>(C * i));
-    config.x = y.template segment<NX>(kX);
-    const Velocity w = y.template segment<NW>(kW);
-    Rate r;
-    mechanics_.rates(config, w, r);
-    for (int i = 0; i < N; ++i) ydot.template segment<C>(C * i) = Chart::rate(y.template segment<C>(C * i), r.Omega[i]);
-    ydot.template segment<NX>(kX) = r.x_dot;
-    ydot.template segment<NW>(kW) = mechanics_.acceleration(t, config, w);
-    return RhsStatus::Ok;
-  }
+  RhsStatus rhs(double t, const double* y_ptr, double* ydot_ptr) const override;
 
-  RhsStatus jacobian(double t, const double* y_ptr, double* J_ptr) const override {
-    const Eigen::Map<const State> y(y_ptr);
-    Eigen::Map<Jacobian> J(J_ptr);
-    if (singular(y)) return RhsStatus::Singular;
-    J.setZero();
-    Config config;
-    std::array<typename Chart::Coords, N> c;
-    // D = d vec(R_1..R_N) / d(c_1..c_N), block diagonal 9N x NC.
-    Eigen::Matrix<double, 9 * N, N * C> D = Eigen::Matrix<double, 9 * N, N * C>::Zero();
-    for (int i = 0; i < N; ++i) {
-      c[i] = y.template segment<C>(C * i);
-      config.R[i] = Chart::rotation(c[i]);
-      D.template block<9, C>(9 * i, C * i) = Chart::rotation_jacobian(c[i]);
-    }
-    config.x = y.template segment<NX>(kX);
-    const Velocity w = y.template segment<NW>(kW);
-
-    // Jacobians of the rates (Omega_i, x') and of the acceleration w.r.t. (vec R, x, w).
-    Eigen::Matrix<double, NR, 9 * N> G_R = Eigen::Matrix<double, NR, 9 * N>::Zero();
-    Eigen::Matrix<double, NR, NX> G_x = Eigen::Matrix<double, NR, NX>::Zero();
-    Eigen::Matrix<double, NR, NW> G_w = Eigen::Matrix<double, NR, NW>::Zero();
-    Eigen::Matrix<double, NW, 9 * N> A_R;
-    Eigen::Matrix<double, NW, NX> A_x;
-    Eigen::Matrix<double, NW, NW> A_w;
-    const auto rates_vector = [&](const Config& cfg, const Velocity& v) {
-      Rate r;
-      mechanics_.rates(cfg, v, r);
-      Vector<NR> out;
-      for (int i = 0; i < N; ++i) out.template segment<3>(3 * i) = r.Omega[i];
-      if constexpr (NX > 0) out.template tail<NX>() = r.x_dot;
-      return out;
-    };
-    constexpr bool analytic_rates = requires { requires M::rates_are_velocities; };
-    if constexpr (analytic_rates) {
-      static_assert(NR == NW, "rates_are_velocities needs w = (Omega_1..N, x')");
-      G_w.setIdentity();
-    }
-    for (int i = 0; i < N; ++i) {
-      for (int e = 0; e < 9; ++e) {
-        const double a = fd_step(config.R[i](e / 3, e % 3));
-        Config plus = config, minus = config;
-        plus.R[i](e / 3, e % 3) += a;
-        minus.R[i](e / 3, e % 3) -= a;
-        A_R.col(9 * i + e) = (mechanics_.acceleration(t, plus, w) - mechanics_.acceleration(t, minus, w)) / (2.0 * a);
-        if constexpr (!analytic_rates) {
-          G_R.col(9 * i + e) = (rates_vector(plus, w) - rates_vector(minus, w)) / (2.0 * a);
-        }
-      }
-    }
-    if constexpr (NX > 0) {  // (Eigen's products of fixed zero-size blocks do not compile)
-      for (int k = 0; k < NX; ++k) {
-        const double a = fd_step(config.x(k));
-        Config plus = config, minus = config;
-        plus.x(k) += a;
-        minus.x(k) -= a;
-        A_x.col(k) = (mechanics_.acceleration(t, plus, w) - mechanics_.acceleration(t, minus, w)) / (2.0 * a);
-        if constexpr (!analytic_rates) G_x.col(k) = (rates_vector(plus, w) - rates_vector(minus, w)) / (2.0 * a);
-      }
-    }
-    constexpr bool analytic_velocity = requires(const M& m) { m.velocity_jacobian(t, config, w); };
-    if constexpr (analytic_velocity) {
-      A_w = mechanics_.velocity_jacobian(t, config, w);
-    }
-    if constexpr (!analytic_velocity || !analytic_rates) {
-      for (int k = 0; k < NW; ++k) {
-        const double a = fd_step(w(k));
-        Velocity plus = w, minus = w;
-        plus(k) += a;
-        minus(k) -= a;
-        if constexpr (!analytic_velocity) {
-          A_w.col(k) = (mechanics_.acceleration(t, config, plus) - mechanics_.acceleration(t, config, minus)) / (2.0 * a);
-        }
-        if constexpr (!analytic_rates) G_w.col(k) = (rates_vector(config, plus) - rates_vector(config, minus)) / (2.0 * a);
-      }
-    }
-
-    // Rows of w: [A_R D, A_x, A_w].
-    J.template block<NW, N * C>(kW, 0) = A_R * D;
-    J.template block<NW, NW>(kW, kW) = A_w;
-    if constexpr (NX > 0) {
-      J.template block<NW, NX>(kW, kX) = A_x;
-      // Rows of x: the x' part of the rates.
-      J.template block<NX, N * C>(kX, 0) = G_R.template bottomRows<NX>() * D;
-      J.template block<NX, NX>(kX, kX) = G_x.template bottomRows<NX>();
-      J.template block<NX, NW>(kX, kW) = G_w.template bottomRows<NX>();
-    }
-    // Rows of c_i: d rate / dc_i + d rate / dOmega_i * dOmega_i / d(c, x, w).
-    const Vector<NR> r = rates_vector(config, w);
-    for (int i = 0; i < N; ++i) {
-      const Vec3 Omega = r.template segment<3>(3 * i);
-      const auto K_O = Chart::rate_omega_jacobian(c[i]);
-      J.template block<C, C>(C * i, C * i) = Chart::rate_jacobian(c[i], Omega);
-      J.template block<C, N * C>(C * i, 0) += K_O * (G_R.template middleRows<3>(3 * i) * D);
-      if constexpr (NX > 0) J.template block<C, NX>(C * i, kX) = K_O * G_x.template middleRows<3>(3 * i);
-      J.template block<C, NW>(C * i, kW) = K_O * G_w.template middleRows<3>(3 * i);
-    }
-    return RhsStatus::Ok;
-  }
+  RhsStatus jacobian(double t, const double* y_ptr, double* J_ptr) const override;
 
   bool has_singular_set() const override { return std::is_same_v<Chart, EulerChart>; }
   double singularity_function(const double* y_ptr) const override {
@@ -314,5 +172,185 @@ class CoordinateOde final : public Ode {
   M mechanics_;
   bool renormalize_;
 };
+
+// The members that instantiate most code are defined below the class, outside it (so not
+// inline), and compiled once for the library's systems (the explicit instantiation declarations
+// at the end; baselines/model_instances_*.cpp define them): a file that runs a model of these
+// systems does not compile them again (test_baselines' files spent about half their compile time
+// instantiating them). A model of another mechanics (a user's, a harness wrapper) instantiates them where
+// it is used, as any template.
+
+template <class Chart, Mechanics M>
+auto CoordinateOde<Chart, M>::initial_state(const std::array<Mat3, N>& R, const std::array<Vec3, N>& Omega,
+                                            const Vector<NX>& x, const Vector<NX>& x_dot) const -> State {
+  State y;
+  Config config;
+  for (int i = 0; i < N; ++i) {
+    require_finite(R[i], "R0");
+    if (!so3::is_rotation(R[i], 1e-10)) throw InvalidInput("R0", "is not a rotation matrix (R^T R != I or det R != 1)");
+    require_finite(Omega[i], "Omega0");
+    y.template segment<C>(C * i) = Chart::from_rotation(R[i]);
+    config.R[i] = R[i];
+  }
+  require_finite(x, "x0");
+  require_finite(x_dot, "v0");
+  config.x = x;
+  y.template segment<NX>(kX) = x;
+  y.template segment<NW>(kW) = mechanics_.velocity_state(config, Omega, x_dot);
+  return y;
+}
+
+template <class Chart, Mechanics M>
+auto CoordinateOde<Chart, M>::decode(const double* y_ptr) const -> Decoded {
+  const Eigen::Map<const State> y(y_ptr);
+  Decoded d;
+  for (int i = 0; i < N; ++i) {
+    typename Chart::Coords c = y.template segment<C>(C * i);
+    if constexpr (std::is_same_v<Chart, QuaternionChart>) {
+      d.quaternion_norm_error[i] = Chart::norm_error(c);
+      if (renormalize_) {
+        c.normalize();
+        d.quaternion_norm_error[i] = Chart::norm_error(c);
+      }
+    }
+    d.config.R[i] = Chart::rotation(c);
+  }
+  d.config.x = y.template segment<NX>(kX);
+  mechanics_.rates(d.config, y.template segment<NW>(kW), d.rates);
+  return d;
+}
+
+template <class Chart, Mechanics M>
+RhsStatus CoordinateOde<Chart, M>::rhs(double t, const double* y_ptr, double* ydot_ptr) const {
+  const Eigen::Map<const State> y(y_ptr);
+  Eigen::Map<State> ydot(ydot_ptr);
+  if (singular(y)) return RhsStatus::Singular;
+  Config config;
+  for (int i = 0; i < N; ++i) config.R[i] = Chart::rotation(y.template segment<C>(C * i));
+  config.x = y.template segment<NX>(kX);
+  const Velocity w = y.template segment<NW>(kW);
+  Rate r;
+  mechanics_.rates(config, w, r);
+  for (int i = 0; i < N; ++i) ydot.template segment<C>(C * i) = Chart::rate(y.template segment<C>(C * i), r.Omega[i]);
+  ydot.template segment<NX>(kX) = r.x_dot;
+  ydot.template segment<NW>(kW) = mechanics_.acceleration(t, config, w);
+  return RhsStatus::Ok;
+}
+
+template <class Chart, Mechanics M>
+RhsStatus CoordinateOde<Chart, M>::jacobian(double t, const double* y_ptr, double* J_ptr) const {
+  const Eigen::Map<const State> y(y_ptr);
+  Eigen::Map<Jacobian> J(J_ptr);
+  if (singular(y)) return RhsStatus::Singular;
+  J.setZero();
+  Config config;
+  std::array<typename Chart::Coords, N> c;
+  // D = d vec(R_1..R_N) / d(c_1..c_N), block diagonal 9N x NC.
+  Eigen::Matrix<double, 9 * N, N * C> D = Eigen::Matrix<double, 9 * N, N * C>::Zero();
+  for (int i = 0; i < N; ++i) {
+    c[i] = y.template segment<C>(C * i);
+    config.R[i] = Chart::rotation(c[i]);
+    D.template block<9, C>(9 * i, C * i) = Chart::rotation_jacobian(c[i]);
+  }
+  config.x = y.template segment<NX>(kX);
+  const Velocity w = y.template segment<NW>(kW);
+
+  // Jacobians of the rates (Omega_i, x') and of the acceleration w.r.t. (vec R, x, w).
+  Eigen::Matrix<double, NR, 9 * N> G_R = Eigen::Matrix<double, NR, 9 * N>::Zero();
+  Eigen::Matrix<double, NR, NX> G_x = Eigen::Matrix<double, NR, NX>::Zero();
+  Eigen::Matrix<double, NR, NW> G_w = Eigen::Matrix<double, NR, NW>::Zero();
+  Eigen::Matrix<double, NW, 9 * N> A_R;
+  Eigen::Matrix<double, NW, NX> A_x;
+  Eigen::Matrix<double, NW, NW> A_w;
+  const auto rates_vector = [&](const Config& cfg, const Velocity& v) {
+    Rate r;
+    mechanics_.rates(cfg, v, r);
+    Vector<NR> out;
+    for (int i = 0; i < N; ++i) out.template segment<3>(3 * i) = r.Omega[i];
+    if constexpr (NX > 0) out.template tail<NX>() = r.x_dot;
+    return out;
+  };
+  constexpr bool analytic_rates = requires { requires M::rates_are_velocities; };
+  if constexpr (analytic_rates) {
+    static_assert(NR == NW, "rates_are_velocities needs w = (Omega_1..N, x')");
+    G_w.setIdentity();
+  }
+  for (int i = 0; i < N; ++i) {
+    for (int e = 0; e < 9; ++e) {
+      const double a = fd_step(config.R[i](e / 3, e % 3));
+      Config plus = config, minus = config;
+      plus.R[i](e / 3, e % 3) += a;
+      minus.R[i](e / 3, e % 3) -= a;
+      A_R.col(9 * i + e) = (mechanics_.acceleration(t, plus, w) - mechanics_.acceleration(t, minus, w)) / (2.0 * a);
+      if constexpr (!analytic_rates) {
+        G_R.col(9 * i + e) = (rates_vector(plus, w) - rates_vector(minus, w)) / (2.0 * a);
+      }
+    }
+  }
+  if constexpr (NX > 0) {  // (Eigen's products of fixed zero-size blocks do not compile)
+    for (int k = 0; k < NX; ++k) {
+      const double a = fd_step(config.x(k));
+      Config plus = config, minus = config;
+      plus.x(k) += a;
+      minus.x(k) -= a;
+      A_x.col(k) = (mechanics_.acceleration(t, plus, w) - mechanics_.acceleration(t, minus, w)) / (2.0 * a);
+      if constexpr (!analytic_rates) G_x.col(k) = (rates_vector(plus, w) - rates_vector(minus, w)) / (2.0 * a);
+    }
+  }
+  constexpr bool analytic_velocity = requires(const M& m) { m.velocity_jacobian(t, config, w); };
+  if constexpr (analytic_velocity) {
+    A_w = mechanics_.velocity_jacobian(t, config, w);
+  }
+  if constexpr (!analytic_velocity || !analytic_rates) {
+    for (int k = 0; k < NW; ++k) {
+      const double a = fd_step(w(k));
+      Velocity plus = w, minus = w;
+      plus(k) += a;
+      minus(k) -= a;
+      if constexpr (!analytic_velocity) {
+        A_w.col(k) = (mechanics_.acceleration(t, config, plus) - mechanics_.acceleration(t, config, minus)) / (2.0 * a);
+      }
+      if constexpr (!analytic_rates) G_w.col(k) = (rates_vector(config, plus) - rates_vector(config, minus)) / (2.0 * a);
+    }
+  }
+
+  // Rows of w: [A_R D, A_x, A_w].
+  J.template block<NW, N * C>(kW, 0) = A_R * D;
+  J.template block<NW, NW>(kW, kW) = A_w;
+  if constexpr (NX > 0) {
+    J.template block<NW, NX>(kW, kX) = A_x;
+    // Rows of x: the x' part of the rates.
+    J.template block<NX, N * C>(kX, 0) = G_R.template bottomRows<NX>() * D;
+    J.template block<NX, NX>(kX, kX) = G_x.template bottomRows<NX>();
+    J.template block<NX, NW>(kX, kW) = G_w.template bottomRows<NX>();
+  }
+  // Rows of c_i: d rate / dc_i + d rate / dOmega_i * dOmega_i / d(c, x, w).
+  const Vector<NR> r = rates_vector(config, w);
+  for (int i = 0; i < N; ++i) {
+    const Vec3 Omega = r.template segment<3>(3 * i);
+    const auto K_O = Chart::rate_omega_jacobian(c[i]);
+    J.template block<C, C>(C * i, C * i) = Chart::rate_jacobian(c[i], Omega);
+    J.template block<C, N * C>(C * i, 0) += K_O * (G_R.template middleRows<3>(3 * i) * D);
+    if constexpr (NX > 0) J.template block<C, NX>(C * i, kX) = K_O * G_x.template middleRows<3>(3 * i);
+    J.template block<C, NW>(C * i, kW) = K_O * G_w.template middleRows<3>(3 * i);
+  }
+  return RhsStatus::Ok;
+}
+
+extern template class CoordinateOde<QuaternionChart, AttitudeMechanics<FreeRigidBody>>;
+extern template class CoordinateOde<EulerChart, AttitudeMechanics<FreeRigidBody>>;
+extern template class CoordinateOde<MatrixChart, AttitudeMechanics<FreeRigidBody>>;
+extern template class CoordinateOde<QuaternionChart, AttitudeMechanics<Pendulum3D>>;
+extern template class CoordinateOde<EulerChart, AttitudeMechanics<Pendulum3D>>;
+extern template class CoordinateOde<MatrixChart, AttitudeMechanics<Pendulum3D>>;
+extern template class CoordinateOde<QuaternionChart, DumbbellMechanics>;
+extern template class CoordinateOde<EulerChart, DumbbellMechanics>;
+extern template class CoordinateOde<MatrixChart, DumbbellMechanics>;
+extern template class CoordinateOde<QuaternionChart, CartPendulumMechanics>;
+extern template class CoordinateOde<EulerChart, CartPendulumMechanics>;
+extern template class CoordinateOde<MatrixChart, CartPendulumMechanics>;
+extern template class CoordinateOde<QuaternionChart, ConnectedBodiesMechanics>;
+extern template class CoordinateOde<EulerChart, ConnectedBodiesMechanics>;
+extern template class CoordinateOde<MatrixChart, ConnectedBodiesMechanics>;
 
 }  // namespace lgvi::baselines
