@@ -176,6 +176,10 @@ const char* to_string(OcpMethod m) { return m == OcpMethod::Indirect ? "indirect
 
 std::shared_ptr<const OcpDefinition> read_ocp_table(const SceneReader& r, const Model& model,
                                                      const SceneTable& parameters, const SceneTable& ocp) {
+  if (const auto* free_body = std::get_if<FreeBodyModel>(&model); free_body && free_body->gravity_gradient) {
+    r.fail("parameters.orbit_rate", "the free body's optimal control model has no gravity-gradient moment "
+                                    "(remove orbit_rate, or [ocp])");
+  }
   return std::visit(
       [&](const auto& m) { return read_for<std::decay_t<decltype(m)>>(r, parameters, ocp); }, model);
 }

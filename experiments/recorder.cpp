@@ -76,7 +76,7 @@ bool Recorder::record(std::size_t k, const Sample& s) {
   visit_binding(model_, [&](auto binding, const auto& m) {
     using B = decltype(binding);
     const auto& state = state_of<std::decay_t<decltype(m)>>(s);
-    c = B::conserved(m, state);
+    c = B::conserved(m, state, s.t);
     orthogonality = B::orthogonality_error(state);
     determinant = B::determinant_error(state);
     row_[n++] = s.t;

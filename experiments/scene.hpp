@@ -51,6 +51,7 @@
 #include "lgvi/multibody_lgvi.hpp"
 #include "lgvi/systems/dumbbell.hpp"
 #include "lgvi/systems/free_rigid_body.hpp"
+#include "lgvi/systems/gravity_gradient.hpp"
 #include "lgvi/systems/pendulum.hpp"
 #include "lgvi/types.hpp"
 
@@ -131,8 +132,12 @@ struct FreeBodyModel {
   static constexpr const char* name = "free-body";
   FreeRigidBody system;
   State initial;
-  std::optional<TimeControl> control;  ///< body-frame moment
-  std::optional<AttitudeFeedback> feedback;  ///< body-frame moment tau(R, Omega) (instead of control)
+  // (Defaults written out: the binding fills system and initial only.)
+  std::optional<TimeControl> control = std::nullopt;  ///< body-frame moment
+  std::optional<AttitudeFeedback> feedback = std::nullopt;  ///< body-frame moment tau(R, Omega) (instead of control)
+  /// [parameters] orbit_rate: on a circular orbit, under the gravity-gradient moment
+  /// (lgvi/systems/gravity_gradient.hpp).
+  std::optional<GravityGradient> gravity_gradient = std::nullopt;
 };
 
 struct PendulumModel {
@@ -140,11 +145,11 @@ struct PendulumModel {
   static constexpr const char* name = "pendulum";
   Pendulum3D system;
   State initial;
-  std::optional<TimeControl> control;  ///< u of eq. 23; the applied moment is R^T e3 x u
+  std::optional<TimeControl> control = std::nullopt;  ///< u of eq. 23; the applied moment is R^T e3 x u
   /// Instead of control: u = tau x R^T e3 with tau the feedback's moment, so that the applied
   /// moment R^T e3 x u is tau's part normal to the vertical (eq. 23's u cannot turn the pendulum
   /// about the vertical).
-  std::optional<AttitudeFeedback> feedback;
+  std::optional<AttitudeFeedback> feedback = std::nullopt;
 };
 
 struct DumbbellModel {

@@ -46,7 +46,8 @@ struct SystemLabels {
 ///   single_body                    no mass matrix to solve (a baseline's Jacobian text)
 ///   state_columns(c)               appends the CSV state columns after t (paper's symbols)
 ///   write_state(s, row, n)         writes those columns of state s into row[n..]; returns n
-///   conserved(m, s)                energy and momentum map of a state
+///   conserved(m, s, t)             energy and momentum map of a state at time t (the free
+///                                  body's Jacobi integral in orbit depends on t)
 ///   momentum_map()                 the momentum map's description and columns
 ///   orthogonality_error(s), determinant_error(s)   the worst over the system's attitudes
 ///   final_state_error(s, ref)      dimensionless distance of two final states (see suite_jobs.hpp)
@@ -80,7 +81,7 @@ concept SystemBindingOf = std::same_as<typename B::State, typename M::State> &&
   { B::single_body } -> std::convertible_to<bool>;
   B::state_columns(c);
   { B::write_state(s, row, std::size_t{0}) } -> std::same_as<std::size_t>;
-  { B::conserved(m, s) } -> std::same_as<Conserved>;
+  { B::conserved(m, s, 0.0) } -> std::same_as<Conserved>;
   { B::momentum_map() } -> std::same_as<MomentumMap>;
   { B::orthogonality_error(s) } -> std::same_as<double>;
   { B::determinant_error(s) } -> std::same_as<double>;

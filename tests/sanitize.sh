@@ -36,7 +36,16 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # bodies' agreement tests, the order, momentum and reversibility tests).
 long_sweeps="FastLgviStep.FreeBodyAgreesWithTheReferenceOver1e5Steps:FastLgviStep.PendulumAgreesWithTheReference"
 long_sweeps="$long_sweeps:LgviStructure.PendulumMillionStepsUncontrolled:LgviStructure.PendulumMillionStepsWithSymmetricControl"
-"$dir/tests/test_lgvi" --gtest_brief=1 --gtest_filter="-$long_sweeps"
+# In $jobs shards (GoogleTest's sharding: each test runs in exactly one shard) side by side.
+pids=()
+for ((shard = 0; shard < jobs; ++shard)); do
+  GTEST_TOTAL_SHARDS=$jobs GTEST_SHARD_INDEX=$shard "$dir/tests/test_lgvi" --gtest_brief=1 \
+    --gtest_filter="-$long_sweeps" &
+  pids+=($!)
+done
+for pid in "${pids[@]}"; do
+  wait "$pid" || { echo "sanitize.sh: a test_lgvi shard failed" >&2; exit 1; }
+done
 stamp "test_lgvi passed"
 # test_experiments is not built here: with it (and full -g) the sanitizer build alone was on
 # course for ~25 minutes on 2 cores, which with the rest of CI passes the 45-minute budget; the
@@ -46,10 +55,14 @@ stamp "test_lgvi passed"
 exe="$dir/lgvi-testbed"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-for scene in experiments/scenes/*.toml; do
-  "$exe" simulate "$scene" --t-final "$(awk -F'= *' '/^h *=/{printf "%.17g", 20*$2; exit}' "$scene")" \
-    --out "$work/$(basename "$scene" .toml).csv" >/dev/null
-done
+# Every shipped scene for 20 steps, $jobs at a time (xargs fails when a run fails).
+run_scene() {
+  "$exe" simulate "$1" --t-final "$(awk -F'= *' '/^h *=/{printf "%.17g", 20*$2; exit}' "$1")" \
+    --out "$work/$(basename "$1" .toml).csv" >/dev/null
+}
+export -f run_scene
+export exe work
+printf '%s\0' experiments/scenes/*.toml | xargs -0 -n 1 -P "$jobs" bash -c 'run_scene "$1"' run_scene
 "$exe" simulate pendulum --t-final 0.5 --method cvode-bdf --model quaternion --out "$work/bdf.csv" >/dev/null
 "$exe" suite energy-drift --quick --no-plots --out "$work/suite" >/dev/null
 "$exe" ocp pendulum --max-iterations 2 --out "$work/ocp-pendulum" >/dev/null || [ $? -eq 2 ]

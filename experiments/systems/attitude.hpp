@@ -137,7 +137,7 @@ struct AttitudeBinding {
   static M read(const SceneReader& r, const SceneTable& parameters, const SceneTable& initial,
                 const std::optional<SceneTable>& control) {
     const Mat3 R = r.attitude(initial, "R");
-    M m{SystemBinding<M>::read_parameters(r, parameters), State{R, r.body_rate(initial, "Omega", R)}, {}, {}};
+    M m{SystemBinding<M>::read_parameters(r, parameters), State{R, r.body_rate(initial, "Omega", R)}};
     if (control && r.control_type(*control) == "pd") {
       m.feedback = r.feedback(*control);
     } else if (control) {

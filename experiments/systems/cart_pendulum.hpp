@@ -56,7 +56,7 @@ struct SystemBinding<CartPendulumModel> {
     n = write_vector(s.q, row, n);
     return write_vector(s.q_dot, row, n);
   }
-  static Conserved conserved(const M& m, const State& s) {
+  static Conserved conserved(const M& m, const State& s, double /*t*/) {
     Vec3 Pi;
     Vec2 p;
     m.system.momenta(s.R, s.Omega, s.q_dot, Pi, p);

@@ -61,7 +61,7 @@ struct SystemBinding<ConnectedBodiesModel> {
     n = write_vector(s.Omega1, row, n);
     return write_vector(s.Omega2, row, n);
   }
-  static Conserved conserved(const M& m, const State& s) {
+  static Conserved conserved(const M& m, const State& s, double /*t*/) {
     Vec3 Pi1, Pi2;
     m.system.momenta(s.R1, s.R2, s.Omega1, s.Omega2, Pi1, Pi2);
     return {m.system.energy(s.R1, s.R2, s.Omega1, s.Omega2), ConnectedBodies::total_angular_momentum(s.R1, s.R2, Pi1, Pi2),

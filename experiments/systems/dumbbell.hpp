@@ -64,7 +64,7 @@ struct SystemBinding<DumbbellModel> {
     n = write_vector(s.x, row, n);
     return write_vector(s.v, row, n);
   }
-  static Conserved conserved(const M& m, const State& s) {
+  static Conserved conserved(const M& m, const State& s, double /*t*/) {
     return {m.system.energy(s.R, s.x, s.Omega, s.v), m.system.angular_momentum(s.R, s.x, s.Omega, s.v), 3};
   }
   static MomentumMap momentum_map() {

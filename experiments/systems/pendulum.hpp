@@ -18,7 +18,7 @@ struct SystemBinding<PendulumModel> : AttitudeBinding<PendulumModel> {
     const double g = r.number(parameters, "gravity");
     return r.physics("parameters.", [&] { return Pendulum3D(mass, J, rho, g); });
   }
-  static Conserved conserved(const PendulumModel& m, const State& s) {
+  static Conserved conserved(const PendulumModel& m, const State& s, double /*t*/) {
     return {m.system.energy(s.R, s.Omega), Vec3(m.system.vertical_momentum(s.R, s.Omega), 0.0, 0.0), 1};
   }
   static MomentumMap momentum_map() { return {"vertical angular momentum e3^T R J Omega", {"vertical_momentum"}}; }
