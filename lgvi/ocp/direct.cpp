@@ -368,12 +368,13 @@ void DirectTranscription<Model>::propagate_sensitivity(const State& s, const Sta
   const VecU u0 = e.controls.col(static_cast<Eigen::Index>(k));
   const VecU u1 = e.controls.col(static_cast<Eigen::Index>(k + 1));
   lgvi_.linearize(s, next, h_, u0, u1, A, B0, B1);
-  // Coefficient-based (lazyProduct): for nw rows Eigen's blocked GEMM spends more on packing than
-  // on arithmetic; both sum over the inner index in order, so the result is the same.
+  // Coefficient-based products (lazyProduct): for nw rows Eigen's blocked GEMM spends more on
+  // packing than on arithmetic, and a sum of two outer products would be evaluated into heap
+  // temporaries; the sums are the same, term by term in the same order, so the result is too.
   e.Phi_next.noalias() = A.lazyProduct(e.Phi);
+  const auto s0 = S_.row(static_cast<Eigen::Index>(k)), s1 = S_.row(static_cast<Eigen::Index>(k + 1));
   for (int a = 0; a < nu; ++a) {
-    e.Phi_next.middleCols(a * knots_, knots_).noalias() +=
-        B0.col(a) * S_.row(static_cast<Eigen::Index>(k)) + B1.col(a) * S_.row(static_cast<Eigen::Index>(k + 1));
+    e.Phi_next.middleCols(a * knots_, knots_).noalias() += B0.col(a).lazyProduct(s0) + B1.col(a).lazyProduct(s1);
   }
   e.Phi.swap(e.Phi_next);
 }
