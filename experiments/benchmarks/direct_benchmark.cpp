@@ -71,7 +71,7 @@ void BM_ConnectedBodiesSolve(benchmark::State& bench) {
 }
 
 // One evaluation of the multiple-shooting constraints (range 0: values only; 1: with the exact
-// sparse Jacobian), connected bodies, segments of 20 steps, geodesic references, random start 1's
+// sparse Jacobian; 2: the Jacobian alone, along the states stored by a values run), connected bodies, segments of 20 steps, geodesic references, random start 1's
 // knots. The cost of a Hessian of the Lagrangian by differences of these Jacobians follows
 // (README "Multiple shooting with IPOPT": 21 knot directions + 3 colours x 12 state directions).
 void BM_ConnectedBodiesShootingJacobian(benchmark::State& bench) {
@@ -86,6 +86,14 @@ void BM_ConnectedBodiesShootingJacobian(benchmark::State& bench) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(tr.shooting_variables(n));
   x.head(tr.parameters()) = c;
   ocp::DirectTranscription<Model>::ShootingEvaluation e;
+  if (bench.range(0) == 2) {
+    if (!tr.evaluate_shooting(n, x, false, e)) bench.SkipWithError("simulation failed");
+    for (auto _ : bench) {
+      tr.shooting_gradients(n, x, e);
+      benchmark::DoNotOptimize(e.jacobian_values.data());
+    }
+    return;
+  }
   for (auto _ : bench) {
     if (!tr.evaluate_shooting(n, x, bench.range(0) == 1, e)) bench.SkipWithError("simulation failed");
     benchmark::DoNotOptimize(e.constraints.data());
@@ -119,6 +127,7 @@ void multistart(benchmark::State& bench, const System& system, const Transfer& p
   bench.counters["feasible"] = feasible;
   bench.counters["iterations"] = last.iterations;
   bench.counters["simulations"] = static_cast<double>(last.simulations);
+  bench.counters["gradients"] = last.gradient_evaluations;
   bench.counters["best_cost"] = last.cost;
   bench.counters["violation"] = last.violation;
   // Per start k: solver iterations, wall seconds, cost and violation of the returned point.
@@ -146,7 +155,7 @@ BENCHMARK(BM_CartPendulumGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond
 BENCHMARK(BM_ConnectedBodiesGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CartPendulumSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_ConnectedBodiesSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
-BENCHMARK(BM_ConnectedBodiesShootingJacobian)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ConnectedBodiesShootingJacobian)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CartPendulumSolver)->Args({0, 0, 0})->Args({1, 20, 0})->Args({1, 40, 1})->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_ConnectedBodiesMultistart)
     ->Args({0, 0, 0})

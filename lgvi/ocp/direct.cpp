@@ -340,10 +340,9 @@ void DirectTranscription<Model>::sample_controls_and_cost(const Eigen::VectorXd&
 template <class Model>
 template <class E>
 bool DirectTranscription<Model>::advance(State& s, std::size_t k_begin, std::size_t k_end, bool gradients,
-                                         E& e) const {
-  typename Model::MatW A;
-  typename Model::MatWU B0, B1;
+                                         E& e, State* trajectory) const {
   State next;
+  if (trajectory != nullptr) trajectory[0] = s;
   for (std::size_t k = k_begin; k < k_end; ++k) {
     const VecU u0 = e.controls.col(static_cast<Eigen::Index>(k));
     const VecU u1 = e.controls.col(static_cast<Eigen::Index>(k + 1));
@@ -353,19 +352,31 @@ bool DirectTranscription<Model>::advance(State& s, std::size_t k_begin, std::siz
       e.failure = r;
       return false;
     }
-    if (gradients) {
-      // Phi_{k+1} = A_k Phi_k + B0_k du_k/dc + B1_k du_{k+1}/dc (knot columns first).
-      lgvi_.linearize(s, next, h_, u0, u1, A, B0, B1);
-      e.Phi_next.noalias() = A * e.Phi;
-      for (int a = 0; a < nu; ++a) {
-        e.Phi_next.middleCols(a * knots_, knots_).noalias() +=
-            B0.col(a) * S_.row(static_cast<Eigen::Index>(k)) + B1.col(a) * S_.row(static_cast<Eigen::Index>(k + 1));
-      }
-      e.Phi.swap(e.Phi_next);
-    }
+    if (gradients) propagate_sensitivity(s, next, k, e);
     s = next;
+    if (trajectory != nullptr) trajectory[k + 1 - k_begin] = s;
   }
   return true;
+}
+
+template <class Model>
+template <class E>
+void DirectTranscription<Model>::propagate_sensitivity(const State& s, const State& next, std::size_t k, E& e) const {
+  // Phi_{k+1} = A_k Phi_k + B0_k du_k/dc + B1_k du_{k+1}/dc (knot columns first).
+  typename Model::MatW A;
+  typename Model::MatWU B0, B1;
+  const VecU u0 = e.controls.col(static_cast<Eigen::Index>(k));
+  const VecU u1 = e.controls.col(static_cast<Eigen::Index>(k + 1));
+  lgvi_.linearize(s, next, h_, u0, u1, A, B0, B1);
+  // Coefficient-based products (lazyProduct): for nw rows Eigen's blocked GEMM spends more on
+  // packing than on arithmetic, and a sum of two outer products would be evaluated into heap
+  // temporaries; the sums are the same, term by term in the same order, so the result is too.
+  e.Phi_next.noalias() = A.lazyProduct(e.Phi);
+  const auto s0 = S_.row(static_cast<Eigen::Index>(k)), s1 = S_.row(static_cast<Eigen::Index>(k + 1));
+  for (int a = 0; a < nu; ++a) {
+    e.Phi_next.middleCols(a * knots_, knots_).noalias() += B0.col(a).lazyProduct(s0) + B1.col(a).lazyProduct(s1);
+  }
+  e.Phi.swap(e.Phi_next);
 }
 
 template <class Model>
@@ -530,67 +541,72 @@ void difference_jacobians(const typename Model::VecW& d, typename Model::MatW& J
 template <class Model>
 bool DirectTranscription<Model>::evaluate_shooting(const ShootingNodes& n, const Eigen::VectorXd& x, bool gradients,
                                                    ShootingEvaluation& e) const {
+  using VecW = typename Model::VecW;
+  const int np = parameters(), K = n.segments(), m = constraints();
+  e.cost_gradient.setZero(x.size());
+  sample_controls_and_cost(x.head(np), false, e);
+  e.constraints.resize(shooting_constraints(n));
+  e.states.resize(steps_ + static_cast<std::size_t>(K));
+  e.ok = false;
+  for (int j = 0; j < K; ++j) {
+    // Segment j starts at s_j (s_0 the fixed initial state).
+    const std::size_t k_begin = n.nodes[static_cast<std::size_t>(j)], k_end = n.nodes[static_cast<std::size_t>(j + 1)];
+    State s = j == 0 ? initial_
+                     : Model::retract(lgvi_, n.reference[static_cast<std::size_t>(j - 1)], x.segment(np + (j - 1) * nw, nw));
+    if (!advance(s, k_begin, k_end, false, e, &e.states[k_begin + static_cast<std::size_t>(j)])) return false;
+    if (j + 1 < K) {
+      const State& target = Model::retract(lgvi_, n.reference[static_cast<std::size_t>(j)], x.segment(np + j * nw, nw));
+      e.constraints.segment(j * nw, nw) = VecW(Model::difference(target, s));
+    } else {
+      const typename Model::VecR residual = Model::residual(lgvi_, problem_, s);
+      for (int i = 0; i < m; ++i) e.constraints(j * nw + i) = residual(rows_[static_cast<std::size_t>(i)]);
+    }
+  }
+  e.ok = true;
+  if (gradients) shooting_gradients(n, x, e);
+  return true;
+}
+
+template <class Model>
+void DirectTranscription<Model>::shooting_gradients(const ShootingNodes& n, const Eigen::VectorXd& x,
+                                                    ShootingEvaluation& e) const {
   using MatW = typename Model::MatW;
   using VecW = typename Model::VecW;
   const int np = parameters(), K = n.segments(), m = constraints();
-  const Eigen::VectorXd c = x.head(np);
   e.cost_gradient.setZero(x.size());
-  sample_controls_and_cost(c, gradients, e);
-  e.constraints.resize(shooting_constraints(n));
-  if (gradients) {
-    e.jacobian_values.clear();
-    e.Phi.resize(nw, np + nw);
-    e.Phi_next.resize(nw, np + nw);
-  }
-  e.ok = false;
+  sample_controls_and_cost(x.head(np), true, e);
+  e.jacobian_values.clear();
+  e.Phi.resize(nw, np + nw);
+  e.Phi_next.resize(nw, np + nw);
   MatW J_d_a, J_d_b;
-  State s;
   const auto push = [&](const auto& block) {  // row-major, as shooting_structure lists it
     for (Eigen::Index r = 0; r < block.rows(); ++r) {
       for (Eigen::Index q = 0; q < block.cols(); ++q) e.jacobian_values.push_back(block(r, q));
     }
   };
   for (int j = 0; j < K; ++j) {
-    // Segment j starts at s_j (s_0 the fixed initial state): Phi = d s / d[c, eta_j] from [0, I].
-    VecW z_j = VecW::Zero();
-    if (j == 0) {
-      s = initial_;
-    } else {
-      z_j = x.segment(np + (j - 1) * nw, nw);
-      s = Model::retract(lgvi_, n.reference[static_cast<std::size_t>(j - 1)], z_j);
-    }
-    if (gradients) {
-      e.Phi.setZero();
-      e.Phi.rightCols(nw).setIdentity();
-    }
-    if (!advance(s, n.nodes[static_cast<std::size_t>(j)], n.nodes[static_cast<std::size_t>(j + 1)], gradients, e)) {
-      return false;
-    }
+    // Phi = d s / d[c, eta_j] from [0, I] at the segment's start, along the stored states.
+    const std::size_t k_begin = n.nodes[static_cast<std::size_t>(j)], k_end = n.nodes[static_cast<std::size_t>(j + 1)];
+    const State* states = &e.states[k_begin + static_cast<std::size_t>(j)];
+    const VecW z_j = j == 0 ? VecW::Zero() : VecW(x.segment(np + (j - 1) * nw, nw));
+    e.Phi.setZero();
+    e.Phi.rightCols(nw).setIdentity();
+    for (std::size_t k = k_begin; k < k_end; ++k) propagate_sensitivity(states[k - k_begin], states[k + 1 - k_begin], k, e);
+    const State& s = states[k_end - k_begin];
     if (j + 1 < K) {
-      const State& target = Model::retract(lgvi_, n.reference[static_cast<std::size_t>(j)], x.segment(np + j * nw, nw));
-      const VecW d = Model::difference(target, s);
-      e.constraints.segment(j * nw, nw) = d;
-      if (gradients) {
-        difference_jacobians<Model>(d, J_d_a, J_d_b);
-        const Eigen::Matrix<double, nw, Eigen::Dynamic> Jc = J_d_b * e.Phi.leftCols(np);
-        push(Jc);
-        if (j >= 1) push(MatW(J_d_b * e.Phi.rightCols(nw) * retract_jacobian<Model>(z_j)));
-        push(MatW(J_d_a * retract_jacobian<Model>(x.segment(np + j * nw, nw))));
-      }
+      difference_jacobians<Model>(e.constraints.segment(j * nw, nw), J_d_a, J_d_b);
+      const Eigen::Matrix<double, nw, Eigen::Dynamic> Jc = J_d_b * e.Phi.leftCols(np);
+      push(Jc);
+      if (j >= 1) push(MatW(J_d_b * e.Phi.rightCols(nw) * retract_jacobian<Model>(z_j)));
+      push(MatW(J_d_a * retract_jacobian<Model>(x.segment(np + j * nw, nw))));
     } else {
-      e.ok = true;
-      const typename Model::VecR residual = Model::residual(lgvi_, problem_, s);
-      for (int i = 0; i < m; ++i) e.constraints(j * nw + i) = residual(rows_[static_cast<std::size_t>(i)]);
-      if (gradients) {
-        const typename Model::MatRW D = Model::residual_jacobian(lgvi_, problem_, s);
-        Eigen::MatrixXd Dr(m, nw);
-        for (int i = 0; i < m; ++i) Dr.row(i) = D.row(rows_[static_cast<std::size_t>(i)]);
-        push(Eigen::MatrixXd(Dr * e.Phi.leftCols(np)));
-        if (j >= 1) push(Eigen::MatrixXd(Dr * e.Phi.rightCols(nw) * retract_jacobian<Model>(z_j)));
-      }
+      const typename Model::MatRW D = Model::residual_jacobian(lgvi_, problem_, s);
+      Eigen::MatrixXd Dr(m, nw);
+      for (int i = 0; i < m; ++i) Dr.row(i) = D.row(rows_[static_cast<std::size_t>(i)]);
+      push(Eigen::MatrixXd(Dr * e.Phi.leftCols(np)));
+      if (j >= 1) push(Eigen::MatrixXd(Dr * e.Phi.rightCols(nw) * retract_jacobian<Model>(z_j)));
     }
   }
-  return true;
 }
 
 template class DirectTranscription<CartPendulumDirectModel>;

@@ -37,7 +37,8 @@ std::string ipopt_name(Ipopt::ApplicationReturnStatus s) {
 }
 
 // The TNLP: IPOPT asks for f, grad f, g and the Jacobian at the same point in separate calls;
-// one evaluate_shooting serves them all (cached by the point; gradients computed on demand).
+// one evaluate_shooting serves them all (cached by the point; gradients added on demand along the
+// stored states, see ensure).
 template <class Model>
 class ShootingNlp : public Ipopt::TNLP {
  public:
@@ -164,10 +165,21 @@ class ShootingNlp : public Ipopt::TNLP {
   int iterations() const { return iterations_; }
 
  private:
+  // IPOPT evaluates f and g at a trial point first and asks for the gradients there only once
+  // the point is accepted: the values' run stores its states, and the gradients are then the step
+  // linearizations along them (no rotation update solved twice). Evaluating the gradients with
+  // every trial point instead costs more: a gradient sweep is ~4x a value sweep (benchmark
+  // ShootingJacobian), the linearizations ~3 of those 4, wasted at every rejected trial.
   bool ensure(Ipopt::Index n, const Ipopt::Number* xp, bool gradients) {
     const Eigen::Map<const Eigen::VectorXd> xm(xp, n);
     const bool same = have_ && x_ == xm;
     if (same && (have_gradients_ || !gradients)) return e_.ok;
+    if (same && e_.ok) {
+      tr_.shooting_gradients(nodes_, x_, e_);
+      have_gradients_ = true;
+      ++S_.gradient_evaluations;
+      return true;
+    }
     x_ = xm;
     have_ = true;
     have_gradients_ = gradients;

@@ -56,6 +56,14 @@ void check_shooting_jacobian(const ocp::DirectTranscription<Model>& tr, const Ei
   }
   EXPECT_LE((J - J_fd).norm(), kOcpFdTolerance * J.norm());
   EXPECT_LE((e.cost_gradient - g_fd).norm(), kOcpFdTolerance * e.cost_gradient.norm());
+  // The gradients added afterwards along a values evaluation's stored states (IPOPT asks for
+  // g, then for the Jacobian once the point is accepted) equal the evaluation with gradients
+  // exactly: the same states, the same linearizations; `minus` last held another point.
+  ASSERT_TRUE(tr.evaluate_shooting(n, x, false, minus));
+  tr.shooting_gradients(n, x, minus);
+  EXPECT_EQ(minus.jacobian_values, e.jacobian_values);
+  EXPECT_TRUE(minus.cost_gradient == e.cost_gradient);
+  EXPECT_TRUE(minus.constraints == e.constraints);
   // Every nonzero of the differenced Jacobian lies inside the declared structure.
   const Eigen::MatrixXd pattern = dense_jacobian(tr, n, std::vector<double>(e.jacobian_values.size(), 1.0));
   EXPECT_LE((J_fd.array() * (pattern.array() == 0.0).cast<double>()).matrix().norm(), kOcpFdTolerance * J.norm());
