@@ -6,16 +6,17 @@
 #include <gtest/gtest.h>
 
 #include "baselines/mechanics.hpp"
+#include "binding_lgvi_support.hpp"
 #include "cli_support.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/system_bindings.hpp"
-#include "lgvi/integrate.hpp"
 #include "lgvi/so3.hpp"
 
 namespace lgvi::experiments {
 namespace {
 
 using test::default_scene_file;
+using test::run_binding_lgvi;
 
 constexpr const char* kFreeBodyPd =
     "system = \"free-body\"\n"
@@ -28,20 +29,6 @@ constexpr const char* kFreeBodyPd =
 double attitude_error(const AttitudeFeedback& f, const Mat3& R) {
   const Mat3 E = f.target.transpose() * R;
   return (0.5 * so3::vee(E - E.transpose())).norm();
-}
-
-/// The LGVI's state after `steps` steps of h (binding run_lgvi, as the harness drives it).
-template <class M>
-typename M::State run_lgvi(const M& m, LgviForm form, double h, std::size_t steps) {
-  typename M::State last;
-  const Stats stats = SystemBinding<M>::run_lgvi(
-      m, form, RotationUpdateOptions{}, [&](const auto& lgvi, auto& state, auto&& control, auto&& to_state) {
-        const Stats s = integrate(lgvi, state, 0.0, h, steps, control, [](auto&&...) { return true; });
-        to_state(state, last);
-        return s;
-      });
-  EXPECT_TRUE(stats.ok()) << stats.brief();
-  return last;
 }
 
 TEST(PdControl, ReadsGainsAndTarget) {
@@ -107,7 +94,7 @@ TEST(PdControl, DrivesTheAttitudeErrorDown) {
   const FreeBodyModel m = std::get<FreeBodyModel>(parse_scene(kFreeBodyPd, "pd.toml").model);
   const double e0 = attitude_error(*m.feedback, m.initial.R);
   ASSERT_GT(e0, 0.5);
-  const auto end = run_lgvi(m, LgviForm::Symmetric, 0.01, 4000);
+  const auto end = run_binding_lgvi(m, LgviForm::Symmetric, 0.01, 4000);
   EXPECT_LT(attitude_error(*m.feedback, end.R), 1e-6 * e0);
   EXPECT_LT(end.Omega.norm(), 1e-6);
   // The pendulum: only the moment normal to the vertical acts, so the target is reached when
@@ -118,25 +105,15 @@ TEST(PdControl, DrivesTheAttitudeErrorDown) {
   text += "\n[control]\ntype = \"pd\"\nkp = 2.0\nkd = 1.0\ntarget_euler = { sequence = \"XYZ\", angles = [0.8, 0, 0] }\n";
   PendulumModel p = std::get<PendulumModel>(parse_scene(text, "p.toml").model);
   p.initial.Omega = Vec3::Zero();
-  const auto swung = run_lgvi(p, LgviForm::Symmetric, 0.01, 4000);
+  const auto swung = run_binding_lgvi(p, LgviForm::Symmetric, 0.01, 4000);
   EXPECT_LT(attitude_error(*p.feedback, swung.R), 1e-6);
 }
 
-// The discretization's order in h: state errors at h and h/2 against h/32 (the same flow map),
-// observed order log2(e(h) / e(h/2)). Symmetric form (feedback at both ends, the end implicit):
-// 2; printed form (feedback at the end only): 1. Bands of +-0.25 around the nominal order hold
-// for h small enough that the leading error term dominates (h = 0.02 over 1 s here).
+// The discretization's order in h (test::expect_form_orders): symmetric form (feedback at both
+// ends, the end implicit) 2; printed form (feedback at the end only) 1; h = 0.02 over 1 s is small
+// enough that the leading error term dominates.
 TEST(PdControl, SymmetricFormIsSecondOrderPrintedFirst) {
-  const FreeBodyModel m = std::get<FreeBodyModel>(parse_scene(kFreeBodyPd, "pd.toml").model);
-  for (const auto& [form, order] : {std::pair{LgviForm::Symmetric, 2.0}, std::pair{LgviForm::Printed, 1.0}}) {
-    const auto ref = run_lgvi(m, form, 1.0 / 1600, 1600);
-    const auto a = run_lgvi(m, form, 1.0 / 50, 50);
-    const auto b = run_lgvi(m, form, 1.0 / 100, 100);
-    const double ea = SystemBinding<FreeBodyModel>::distance(a, ref);
-    const double eb = SystemBinding<FreeBodyModel>::distance(b, ref);
-    const double observed = std::log2(ea / eb);
-    EXPECT_NEAR(observed, order, 0.25) << to_string(form) << ": errors " << ea << ", " << eb;
-  }
+  test::expect_form_orders(std::get<FreeBodyModel>(parse_scene(kFreeBodyPd, "pd.toml").model));
 }
 
 // The baselines' right-hand side evaluates the same law: with h -> 0 the LGVI converges to the
@@ -163,7 +140,7 @@ TEST(PdControl, LgviConvergesToTheBaselineRightHandSide) {
     y.first += dt / 6 * (k1.first + 2 * k2.first + 2 * k3.first + k4.first);
     y.second += dt / 6 * (k1.second + 2 * k2.second + 2 * k3.second + k4.second);
   }
-  const auto lgvi = run_lgvi(m, LgviForm::Symmetric, 1e-3, 1000);
+  const auto lgvi = run_binding_lgvi(m, LgviForm::Symmetric, 1e-3, 1000);
   EXPECT_LT((lgvi.R - y.first).norm(), 1e-5);
   EXPECT_LT((lgvi.Omega - y.second).norm(), 1e-5);
 }

@@ -13,16 +13,17 @@
 
 #include "baselines/model.hpp"
 #include "baselines/solver.hpp"
+#include "binding_lgvi_support.hpp"
 #include "cli_support.hpp"
 #include "experiments/scene.hpp"
 #include "experiments/system_bindings.hpp"
-#include "lgvi/integrate.hpp"
 #include "lgvi/so3.hpp"
 
 namespace lgvi::experiments {
 namespace {
 
 using test::default_scene_file;
+using test::run_binding_lgvi;
 
 // A fast orbit (n = 1 rad/s) so that the gravity gradient acts within a second: the moment
 // 3 n^2 c x J c is of the order of the gyroscopic term J Omega x Omega here.
@@ -37,27 +38,6 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 Mat3 random_rotation(std::mt19937& rng) {
   std::normal_distribution<double> normal(0.0, 1.0);
   return so3::exp(Vec3(normal(rng), normal(rng), normal(rng)));
-}
-
-/// The LGVI's final state after `steps` steps of h, and E_J at every step.
-template <class M>
-typename M::State run_lgvi(const M& m, LgviForm form, double h, std::size_t steps,
-                           std::vector<double>* jacobi = nullptr) {
-  typename M::State last;
-  const Stats stats = SystemBinding<M>::run_lgvi(
-      m, form, RotationUpdateOptions{}, [&](const auto& lgvi, auto& state, auto&& control, auto&& to_state) {
-        const Stats s = integrate(lgvi, state, 0.0, h, steps, control, [&](std::size_t, double t, const auto& x, const auto&) {
-          if (jacobi != nullptr) {
-            to_state(x, last);
-            jacobi->push_back(SystemBinding<M>::conserved(m, last, t).energy);
-          }
-          return true;
-        });
-        to_state(state, last);
-        return s;
-      });
-  EXPECT_TRUE(stats.ok()) << stats.brief();
-  return last;
 }
 
 // d/de V(R exp(e hat(eta)), t) at e = 0 is -eta . M(R, t) (M is the moment of eq. 13: along
@@ -133,21 +113,13 @@ TEST(GravityGradient, JacobiIntegralIsAFirstIntegralOfTheFlow) {
   EXPECT_GT(largest_energy_rate, 0.1);
 }
 
-// The discretization's order in h: errors at h and h/2 against h/32 of the same flow map,
-// observed order log2(e(h) / e(h/2)): symmetric 2, printed 1, within +-0.25 (the PD feedback's
-// test, tests/experiments/feedback_test.cpp, with the same bands).
+// The discretization's order in h (test::expect_form_orders, as for the PD feedback): symmetric 2,
+// printed 1.
 TEST(GravityGradient, SymmetricFormIsSecondOrderPrintedFirst) {
   const FreeBodyModel m = std::get<FreeBodyModel>(parse_scene(kOrbit, "orbit.toml").model);
   ASSERT_TRUE(m.gravity_gradient);
   EXPECT_EQ(SystemBinding<FreeBodyModel>::printed_order(m), 1);
-  for (const auto& [form, order] : {std::pair{LgviForm::Symmetric, 2.0}, std::pair{LgviForm::Printed, 1.0}}) {
-    const auto ref = run_lgvi(m, form, 1.0 / 1600, 1600);
-    const auto a = run_lgvi(m, form, 1.0 / 50, 50);
-    const auto b = run_lgvi(m, form, 1.0 / 100, 100);
-    const double ea = SystemBinding<FreeBodyModel>::distance(a, ref);
-    const double eb = SystemBinding<FreeBodyModel>::distance(b, ref);
-    EXPECT_NEAR(std::log2(ea / eb), order, 0.25) << to_string(form) << ": errors " << ea << ", " << eb;
-  }
+  test::expect_form_orders(m);
 }
 
 // The LGVI and the baselines' mechanics (GravityGradientMechanics in a CoordinateOde, integrated by
@@ -176,13 +148,13 @@ TEST(GravityGradient, LgviAgreesWithTheBaselineMechanics) {
                                              return true;
                                            });
   ASSERT_TRUE(stats.ok()) << stats.brief();
-  const auto lgvi = run_lgvi(m, LgviForm::Symmetric, 1e-3, 1000);
+  const auto lgvi = run_binding_lgvi(m, LgviForm::Symmetric, 1e-3, 1000);
   EXPECT_LT((lgvi.R - R_end).norm(), 1e-5);
   EXPECT_LT((lgvi.Omega - Omega_end).norm(), 1e-5);
   // Without the gravity gradient the motion differs at order 0.1: the comparison can tell.
   FreeBodyModel free = m;
   free.gravity_gradient.reset();
-  EXPECT_GT((run_lgvi(free, LgviForm::Symmetric, 1e-3, 1000).Omega - Omega_end).norm(), 1e-2);
+  EXPECT_GT((run_binding_lgvi(free, LgviForm::Symmetric, 1e-3, 1000).Omega - Omega_end).norm(), 1e-2);
 }
 
 // The symmetric LGVI is a variational integrator of an autonomous system in the orbit's frame,
@@ -192,7 +164,9 @@ TEST(GravityGradient, LgviAgreesWithTheBaselineMechanics) {
 // conserved): halving h over the same 1000 s divides the largest error by 4, log2 within +-0.3.
 double largest_jacobi_error(const FreeBodyModel& m, double h, std::size_t steps, double* first_tenth) {
   std::vector<double> jacobi;
-  (void)run_lgvi(m, LgviForm::Symmetric, h, steps, &jacobi);
+  (void)run_binding_lgvi(m, LgviForm::Symmetric, h, steps, [&](double t, const FreeBodyModel::State& s) {
+    jacobi.push_back(SystemBinding<FreeBodyModel>::conserved(m, s, t).energy);
+  });
   EXPECT_EQ(jacobi.size(), steps + 1);
   double all = 0.0;
   for (std::size_t k = 0; k < jacobi.size(); ++k) {
