@@ -6,6 +6,7 @@ set -euo pipefail
 
 packages=(
   g++ cmake make pkg-config git
+  ninja-build            # the README commands' generator: compiles any target's files while others link
   libeigen3-dev          # fixed-size linear algebra
   libsundials-dev        # CVODE / CVODES baselines
   libgsl-dev             # GSL odeiv2 baselines, splines

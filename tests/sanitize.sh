@@ -20,7 +20,7 @@ sanitize="-fsanitize=address,undefined -fno-sanitize-recover=all"
 start=$(date +%s)
 stamp() { echo "sanitize.sh: $1 ($(( $(date +%s) - start )) s)"; }
 
-cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++ \
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only -fno-omit-frame-pointer $sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS="$sanitize" \
   -DLGVI_BUILD_BENCHMARKS=OFF -DLGVI_BUILD_EXAMPLES=OFF -DLGVI_BUILD_PYTHON=OFF -DLGVI_INSTALL=OFF \
