@@ -2,7 +2,8 @@
 # The sanitizer job of CI (README "Tests"; run by the test command after the ordinary tests):
 #  1. an AddressSanitizer + UndefinedBehaviorSanitizer build (clang, -O1, no recovery: the first
 #     report fails the job) of the core, the harness, the CLI and test_lgvi, in its own build
-#     directory (default build-asan);
+#     directory (default build-asan), with Ninja; the three optimal control solver files at -O0
+#     (LGVI_OCP_SOLVER_COMPILE_OPTIONS: half their compile time; the job runs them briefly);
 #  2. test_lgvi but its four long sweeps, and CLI runs of every shipped scene, a baseline, a quick suite, two optimal control examples with
 #     few iterations, and the hostile scene files of tests/fuzz/regressions;
 #  3. a bounded libFuzzer run of the scene parser (tests/fuzz/fuzz_scene.cpp) from the shipped
@@ -24,7 +25,7 @@ cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang
   -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only -fno-omit-frame-pointer $sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS="$sanitize" \
   -DLGVI_BUILD_BENCHMARKS=OFF -DLGVI_BUILD_EXAMPLES=OFF -DLGVI_BUILD_PYTHON=OFF -DLGVI_INSTALL=OFF \
-  -DLGVI_BUILD_FUZZERS=ON >/dev/null
+  -DLGVI_BUILD_FUZZERS=ON -DLGVI_OCP_SOLVER_COMPILE_OPTIONS=-O0 >/dev/null
 cmake --build "$dir" -j"$jobs" --target test_lgvi lgvi-testbed fuzz_scene
 stamp "built"
 
