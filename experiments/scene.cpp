@@ -234,8 +234,9 @@ class Reader {
   }
 
   /// The control of table t (TimeControl) with `dim` components (3, or 2 for the cart's forces);
-  /// `scene_dir` resolves a piecewise-linear control's file.
-  TimeControl time_control(const toml::table& t, const std::string& prefix, int dim, const fs::path& scene_dir) const {
+  /// `scene_dir` resolves a piecewise-linear control's file, which is appended to `read_files`.
+  TimeControl time_control(const toml::table& t, const std::string& prefix, int dim, const fs::path& scene_dir,
+                           std::vector<fs::path>& read_files) const {
     TimeControl c;
     std::string type = "sinusoid";
     if (const toml::node* n = t.get("type")) type = string(*n, prefix + ".type");
@@ -285,6 +286,7 @@ class Reader {
       case TimeControl::Kind::PiecewiseLinear: {
         const std::string file = required(t, "file", prefix, &Reader::string);
         c.samples = read_samples(scene_dir / file, prefix + ".file", dim);
+        read_files.push_back(scene_dir / file);
         break;
       }
     }
@@ -733,10 +735,10 @@ Vec3 AttitudeFeedback::moment(const Mat3& R, const Vec3& Omega) const {
 }
 
 TimeControl SceneReader::sinusoid(const SceneTable& t) const {
-  return Reader(file_).time_control(SceneTableAccess::get(t), t.path(), 3, fs::path(file_).parent_path());
+  return Reader(file_).time_control(SceneTableAccess::get(t), t.path(), 3, fs::path(file_).parent_path(), inputs_);
 }
 TimeControl SceneReader::sinusoid2(const SceneTable& t) const {
-  return Reader(file_).time_control(SceneTableAccess::get(t), t.path(), 2, fs::path(file_).parent_path());
+  return Reader(file_).time_control(SceneTableAccess::get(t), t.path(), 2, fs::path(file_).parent_path(), inputs_);
 }
 
 void SceneReader::fail_invalid(const std::string& prefix, const InvalidInput& e) const {
@@ -914,6 +916,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   if (!toml_text.empty() && toml_text.back() != '\n') {
     scene.warnings.push_back(join_message(file_name, "", "does not end with a newline: the file may be truncated"));
   }
+  scene.inputs = reader.inputs();
   return scene;
 }
 

@@ -246,6 +246,9 @@ struct Scene {
   /// [integration] last_step: how `horizon` was made from h and t_final (sweeps of h and t_final
   /// built from this scene use it too).
   LastStep last_step = LastStep::Error;
+  /// The other files the scene was read from (a piecewise-linear control's samples), in reading
+  /// order: what a run of it depends on besides `file` (the resume fingerprints hash them).
+  std::vector<std::filesystem::path> inputs = {};
 
   const char* system() const { return system_name(model); }
 };

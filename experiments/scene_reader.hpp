@@ -43,6 +43,8 @@ class SceneReader {
  public:
   explicit SceneReader(std::string file) : file_(std::move(file)) {}
   const std::string& file() const { return file_; }
+  /// The files read so far besides the scene file (the samples of piecewise-linear controls).
+  const std::vector<std::filesystem::path>& inputs() const { return inputs_; }
 
   [[noreturn]] void fail(const std::string& field, const std::string& reason) const;
 
@@ -138,6 +140,7 @@ class SceneReader {
   void check_initial_finite(const char* non_finite_part, bool energy_finite) const;
 
   std::string file_;
+  mutable std::vector<std::filesystem::path> inputs_;  ///< a record of reading, not of the reader's state
 };
 
 /// The rotation (body to inertial) of Euler angles [a1, a2, a3] (radians) about the axes of a

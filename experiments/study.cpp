@@ -585,14 +585,20 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
     }
   }
   // The files the cases come from, in the resume fingerprint (suite_journal.hpp): this file's
-  // bytes, and each scene file's bytes (named by file name: where it lies is in this file).
+  // bytes, each scene file's bytes and those of the files the scenes read (control samples),
+  // named by file name (where they lie is in this file and the scenes).
   s.inputs.push_back({"the study file " + file.filename().string(), text_fnv1a64(std::string(toml_text))});
-  for (const SceneEntry& e : scenes) {
-    const SuiteInput in{"the scene file " + e.scene->file.filename().string(), file_fnv1a64(e.scene->file)};
+  const auto add_input = [&](const SuiteInput& in) {
     const bool seen = std::any_of(s.inputs.begin(), s.inputs.end(), [&](const SuiteInput& x) {
       return x.what == in.what && x.digest == in.digest;
     });
     if (!seen) s.inputs.push_back(in);
+  };
+  for (const SceneEntry& e : scenes) {
+    add_input({"the scene file " + e.scene->file.filename().string(), file_fnv1a64(e.scene->file)});
+    for (const fs::path& p : e.scene->inputs) {
+      add_input({"the control samples file " + p.filename().string(), file_fnv1a64(p)});
+    }
   }
 
   if (!adaptive_methods.empty()) {

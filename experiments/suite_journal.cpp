@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/atomic_file.hpp"
+#include "experiments/scene.hpp"
 #include "experiments/simulate.hpp"
 #include "experiments/suite.hpp"
 #include "lgvi/inertia.hpp"
@@ -39,6 +40,20 @@ std::string hex(std::uint64_t h) {
   char buf[17];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
   return buf;
+}
+
+// The files a scene reads besides itself (Scene::inputs: control samples); none when it does not
+// parse (the suite reports that when it loads the scene).
+std::vector<fs::path> scene_inputs(const fs::path& scene_file) {
+  std::ifstream in(scene_file, std::ios::binary);
+  std::string text(kMaxSceneBytes + 1, '\0');  // parse_scene refuses more than kMaxSceneBytes
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  try {
+    return parse_scene(text, scene_file).inputs;
+  } catch (const SceneError&) {
+    return {};
+  }
 }
 
 }  // namespace
@@ -68,7 +83,10 @@ std::string suite_fingerprint(const Suite& suite, bool quick, const fs::path& sc
     if (it->path().extension() == ".toml") scenes.push_back(it->path());
   }
   std::sort(scenes.begin(), scenes.end());
-  for (const fs::path& p : scenes) text += p.filename().string() + "\t" + file_fnv1a64(p) + "\n";
+  for (const fs::path& p : scenes) {
+    text += p.filename().string() + "\t" + file_fnv1a64(p) + "\n";
+    for (const fs::path& in : scene_inputs(p)) text += "reads\t" + in.filename().string() + "\t" + file_fnv1a64(in) + "\n";
+  }
   for (const SuiteInput& in : suite.inputs) text += "input\t" + in.what + "\t" + in.digest + "\n";
   return text_fnv1a64(text);
 }

@@ -25,8 +25,8 @@ namespace lgvi::experiments {
 
 struct Suite;
 
-/// A file a suite was made from, in its fingerprint (suite_fingerprint): the study file and the
-/// scene files it names. `what` names it in messages ("the study file x.toml"); `digest` is
+/// A file a suite was made from, in its fingerprint (suite_fingerprint): the study file, the
+/// scene files it names and the files those read (Scene::inputs: control samples). `what` names it in messages ("the study file x.toml"); `digest` is
 /// the FNV-1a 64 of its bytes.
 struct SuiteInput {
   std::string what;
@@ -47,8 +47,9 @@ std::string text_fnv1a64(const std::string& text);
 
 /// The identity of a run's results: a digest of the suite's name, form (quick), version, its
 /// cases (ids, groups, expectations, labels, in order), the bytes of the scene files
-/// (scenes_dir/*.toml, by name) and of the suite's inputs (a study's own file and the scene
-/// files it names, wherever they are). Runs with equal fingerprints compute the same cases.
+/// (scenes_dir/*.toml, by name) and of the files each reads (its control samples), and of the
+/// suite's inputs (a study's own file, the scene files it names, wherever they are, and the
+/// files those read). Runs with equal fingerprints compute the same cases.
 std::string suite_fingerprint(const Suite& suite, bool quick, const std::filesystem::path& scenes_dir);
 
 struct SuiteManifest {

@@ -240,6 +240,26 @@ TEST(StudyRun, ResumeRefusesAnEditedStudyOrSceneFile) {
       << edited_scene_file.err;
 }
 
+// A scene's control samples (a piecewise-linear [control]'s CSV) are part of what the run
+// computed: an edit to them is refused on --resume like an edit to the scene file.
+TEST(StudyRun, ResumeRefusesEditedControlSamples) {
+  TempDir dir;
+  write_text(dir.scenes() / "driven.toml", edited_scene("pendulum", "t_final = 20.0", "t_final = 0.1") +
+                                               "\n[control]\ntype = \"piecewise-linear\"\nfile = \"u.csv\"\n");
+  write_text(dir.scenes() / "u.csv", "t,u1,u2,u3\n0,0,0,0\n1,0.1,0,0\n");
+  const fs::path file = dir.scenes() / "mine.toml";
+  write_text(file, "scenes = [\"driven.toml\"]\nmethods = [\"lgvi\"]\nreference = \"none\"\n");
+  const std::vector<std::string> resume = {"study", file.string(), "--out", "res", "--no-plots", "--resume"};
+  const CliResult first = run_testbed(dir, {"study", file.string(), "--out", "res", "--no-plots"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const CliResult same = run_testbed(dir, resume);
+  EXPECT_EQ(same.exit_code, 0) << same.err;
+  write_text(dir.scenes() / "u.csv", "t,u1,u2,u3\n0,0,0,0\n1,0.2,0,0\n");
+  const CliResult edited = run_testbed(dir, resume);
+  EXPECT_NE(edited.exit_code, 0);
+  EXPECT_NE(edited.err.find("the control samples file u.csv with other contents"), std::string::npos) << edited.err;
+}
+
 TEST(StudyRun, TheShardsUnionIsTheWholeStudy) {
   TempDir dir;
   const fs::path file = dir.scenes() / "tiny.toml";

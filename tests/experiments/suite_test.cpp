@@ -578,6 +578,26 @@ TEST(SuiteResume, ResumeRerunsACaseWhoseFileChangedAndRefusesAnotherRun) {
   EXPECT_NE(other.err.find("suite 'default', not 'energy-drift'"), std::string::npos) << other.err;
 }
 
+// The scenes directory's scenes with their control samples: an edited CSV is another run.
+TEST(SuiteResume, RefusesARunWhoseSceneReadsEditedControlSamples) {
+  TempDir dir;
+  write_text(dir.scenes() / "driven.toml", edited_scene("pendulum", "t_final = 20.0", "t_final = 0.1") +
+                                               "\n[control]\ntype = \"piecewise-linear\"\nfile = \"u.csv\"\n");
+  write_text(dir.scenes() / "u.csv", "t,u1,u2,u3\n0,0,0,0\n1,0.1,0,0\n");
+  const std::vector<std::string> run = {"--scenes-dir", dir.scenes().string(), "suite", "default", "--no-plots",
+                                        "--out", "res"};
+  std::vector<std::string> resume = run;
+  resume.push_back("--resume");
+  const CliResult first = run_testbed(dir, run);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const CliResult same = run_testbed(dir, resume);
+  EXPECT_EQ(same.exit_code, 0) << same.err;
+  write_text(dir.scenes() / "u.csv", "t,u1,u2,u3\n0,0,0,0\n1,0.2,0,0\n");
+  const CliResult edited = run_testbed(dir, resume);
+  EXPECT_EQ(edited.exit_code, 1) << edited.err;
+  EXPECT_NE(edited.err.find("other cases or scene files"), std::string::npos) << edited.err;
+}
+
 TEST(SuiteMerge, ShardsMergeIntoTheUnshardedRunAndIncompleteOrMismatchedShardsAreRefused) {
   TempDir dir;
   pendulum_copies(dir, 3, "t_final = 20.0", "t_final = 0.1");
