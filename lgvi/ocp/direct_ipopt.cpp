@@ -353,8 +353,8 @@ IpoptOutcome run_ipopt(const DirectTranscription<Model>& tr, const DirectOptions
   // once per low-rank column after each update, each a MUMPS call whose fixed per-call cost
   // dominates on these few-hundred-row systems; "extended" adds the low-rank terms as rows and
   // columns of one system factored once (the same model, other rounding: iterates differ in the
-  // last bits). Connected bodies, 8 starts: 7.29 -> 5.79 s CPU, 933 -> 926 iterations, the same
-  // optima (lgvi/ocp/README.md).
+  // last bits). Connected bodies, 8 starts (lgvi-direct-benchmarks): 7.37 -> 5.92 s CPU, 933 ->
+  // 926 iterations, the same optima (lgvi/ocp/README.md).
   if (options.ipopt_hessian == IpoptHessian::LimitedMemory) o.SetStringValue("limited_memory_aug_solver", "extended");
   o.SetIntegerValue("max_iter", options.max_evaluations);
   // Feasibility: IPOPT's test is the max-norm of the unscaled constraints. The reported
