@@ -285,8 +285,9 @@ class Reader {
       case TimeControl::Kind::Constant: c.value = vec("value", true); break;
       case TimeControl::Kind::PiecewiseLinear: {
         const std::string file = required(t, "file", prefix, &Reader::string);
-        c.samples = read_samples(scene_dir / file, prefix + ".file", dim);
-        read_files.push_back(scene_dir / file);
+        const fs::path path = scene_dir / file;
+        c.samples = read_samples(path, prefix + ".file", dim);
+        read_files.push_back(path);
         break;
       }
     }
@@ -920,7 +921,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   return scene;
 }
 
-Scene load_scene(const fs::path& file, const SceneOverrides& overrides) {
+Scene parse_scene_file(const fs::path& file, const SceneOverrides& overrides) {
   std::ifstream in(file, std::ios::binary);
   std::error_code ec;
   if (!in || fs::is_directory(file, ec)) {
@@ -935,7 +936,12 @@ Scene load_scene(const fs::path& file, const SceneOverrides& overrides) {
   if (in.bad()) {
     throw SceneError(file.string(), "", "cannot read the scene file: " + std::string(std::strerror(errno)));
   }
-  Scene scene = parse_scene(text, file, overrides);
+  return parse_scene(text, file, overrides);
+}
+
+Scene load_scene(const fs::path& file, const SceneOverrides& overrides) {
+  Scene scene = parse_scene_file(file, overrides);
+  std::error_code ec;
   // Once per file: a suite or study loads its scene once per case.
   static std::mutex warned_mutex;
   static std::set<std::string> warned;

@@ -266,6 +266,9 @@ struct SceneOverrides {
 /// warnings go to stderr as "warning: ..." lines, once per file per process.
 Scene load_scene(const std::filesystem::path& file, const SceneOverrides& overrides = {});
 
+/// load_scene without printing: the warnings stay in Scene::warnings.
+Scene parse_scene_file(const std::filesystem::path& file, const SceneOverrides& overrides = {});
+
 /// Same from TOML text; `file` names the source in messages and gives the scene name.
 Scene parse_scene(std::string_view toml_text, const std::filesystem::path& file,
                   const SceneOverrides& overrides = {});

@@ -45,12 +45,8 @@ std::string hex(std::uint64_t h) {
 // The files a scene reads besides itself (Scene::inputs: control samples); none when it does not
 // parse (the suite reports that when it loads the scene).
 std::vector<fs::path> scene_inputs(const fs::path& scene_file) {
-  std::ifstream in(scene_file, std::ios::binary);
-  std::string text(kMaxSceneBytes + 1, '\0');  // parse_scene refuses more than kMaxSceneBytes
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
   try {
-    return parse_scene(text, scene_file).inputs;
+    return parse_scene_file(scene_file).inputs;
   } catch (const SceneError&) {
     return {};
   }
