@@ -98,7 +98,7 @@ CartPendulumStepEquation::InputJacobian CartPendulumStepEquation::J_G_in(const M
 
 void CartPendulumLgvi::linearize(const State& in, const State& out, double h, const Control& u_k,
                                  const Control& /*u_k1*/, StateJacobian& J_out_in, ControlJacobian& J_out_uk,
-                                 ControlJacobian& J_out_uk1) const {
+                                 ControlJacobian& J_out_uk1, LinearizationSolve solve) const {
   const CartPendulum& S = system_;
   const auto [c0, c1] = impulse_weights(form_, h);
   const double m = S.mass, total = S.cart_mass + S.mass;
@@ -110,7 +110,11 @@ void CartPendulumLgvi::linearize(const State& in, const State& out, double h, co
 
   // G(F; w_k, u_k) = 0 with F -> F exp(hat xi): dxi/d[w_k; u_k] = -J_G_xi^{-1} J_G_in.
   const CartPendulumStepEquation equation(S, in, h, c0, u_k);
-  const Eigen::Matrix<double, 3, 12> X = -equation.J_G_xi(F).partialPivLu().solve(equation.J_G_in(F));
+  const Mat3 J_G_xi = equation.J_G_xi(F);
+  const Eigen::Matrix<double, 3, 12> J_G_in = equation.J_G_in(F);
+  const Eigen::Matrix<double, 3, 12> X = solve == LinearizationSolve::ClosedForm
+                                             ? Eigen::Matrix<double, 3, 12>(-group_newton_detail::solve_newton_matrix_columns<1, 12>(J_G_xi, J_G_in))
+                                             : Eigen::Matrix<double, 3, 12>(-J_G_xi.partialPivLu().solve(J_G_in));
 
   // eta' = F^T eta + xi.
   Eigen::Matrix<double, 3, 12> Eta = X;
@@ -205,7 +209,7 @@ ConnectedBodiesStepEquation::InputJacobian ConnectedBodiesStepEquation::J_G_in(c
 
 void ConnectedBodiesLgvi::linearize(const State& in, const State& out, double h, const Control& u_k,
                                     const Control& u_k1, StateJacobian& J_out_in, ControlJacobian& J_out_uk,
-                                    ControlJacobian& J_out_uk1) const {
+                                    ControlJacobian& J_out_uk1, LinearizationSolve solve) const {
   const ConnectedBodies& S = system_;
   const auto [c0, c1] = impulse_weights(form_, h);
   const double mu = S.mu;
@@ -217,7 +221,11 @@ void ConnectedBodiesLgvi::linearize(const State& in, const State& out, double h,
 
   // G(F1, F2; w_k, u_k) = 0 with F_i -> F_i exp(hat xi_i): dxi/d[w_k; u_k] = -J_G_xi^{-1} J_G_in.
   const ConnectedBodiesStepEquation equation(S, in, h, c0, u_k);
-  const Eigen::Matrix<double, 6, 15> X = -equation.J_G_xi(F1, F2).partialPivLu().solve(equation.J_G_in(F1, F2));
+  const Mat6x6 J_G_xi = equation.J_G_xi(F1, F2);
+  const Eigen::Matrix<double, 6, 15> J_G_in = equation.J_G_in(F1, F2);
+  const Eigen::Matrix<double, 6, 15> X = solve == LinearizationSolve::ClosedForm
+                                             ? Eigen::Matrix<double, 6, 15>(-group_newton_detail::solve_newton_matrix_columns<2, 15>(J_G_xi, J_G_in))
+                                             : Eigen::Matrix<double, 6, 15>(-J_G_xi.partialPivLu().solve(J_G_in));
   const auto X1 = X.topRows<3>();
   const auto X2 = X.bottomRows<3>();
 

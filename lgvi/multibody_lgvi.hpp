@@ -129,9 +129,11 @@ class CartPendulumLgvi {
   using ControlJacobian = Eigen::Matrix<double, 10, 2>;
   /// The step linearized at its converged result out = step(in, h, u_k, u_k1) (eq. 16):
   /// J_out_in = dw_{k+1}/dw_k, J_out_uk = dw_{k+1}/du_k, J_out_uk1 = dw_{k+1}/du_{k+1}, by the
-  /// implicit-function theorem on the step's CartPendulumStepEquation. Allocates nothing.
+  /// implicit-function theorem on the step's CartPendulumStepEquation, its 3x3 system solved as
+  /// `solve` says (LinearizationSolve: the same Jacobians to round-off). Allocates nothing.
   void linearize(const State& in, const State& out, double h, const Control& u_k, const Control& u_k1,
-                 StateJacobian& J_out_in, ControlJacobian& J_out_uk, ControlJacobian& J_out_uk1) const;
+                 StateJacobian& J_out_in, ControlJacobian& J_out_uk, ControlJacobian& J_out_uk1,
+                 LinearizationSolve solve = LinearizationSolve::PivotedLu) const;
 
   const CartPendulum& system() const { return system_; }
   LgviForm form() const { return form_; }
@@ -253,9 +255,11 @@ class ConnectedBodiesLgvi {
   using StateJacobian = Eigen::Matrix<double, 12, 12>;
   using ControlJacobian = Eigen::Matrix<double, 12, 3>;
   /// The step linearized at its converged result out = step(in, h, u_k, u_k1), as
-  /// CartPendulumLgvi::linearize, on the step's ConnectedBodiesStepEquation. Allocates nothing.
+  /// CartPendulumLgvi::linearize, on the step's ConnectedBodiesStepEquation (its 6x6 system as
+  /// `solve` says). Allocates nothing.
   void linearize(const State& in, const State& out, double h, const Control& u_k, const Control& u_k1,
-                 StateJacobian& J_out_in, ControlJacobian& J_out_uk, ControlJacobian& J_out_uk1) const;
+                 StateJacobian& J_out_in, ControlJacobian& J_out_uk, ControlJacobian& J_out_uk1,
+                 LinearizationSolve solve = LinearizationSolve::PivotedLu) const;
 
   const ConnectedBodies& system() const { return system_; }
   LgviForm form() const { return form_; }

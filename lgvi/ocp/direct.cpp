@@ -13,6 +13,7 @@
 #include <memory>
 #include <random>
 #include <sstream>
+#include <type_traits>
 
 #include <Eigen/Eigenvalues>
 
@@ -352,7 +353,9 @@ bool DirectTranscription<Model>::advance(State& s, std::size_t k_begin, std::siz
       e.failure = r;
       return false;
     }
-    if (gradients) propagate_sensitivity(s, next, k, e);
+    if constexpr (std::is_same_v<E, Evaluation>) {
+      if (gradients) propagate_sensitivity(s, next, k, e);
+    }
     s = next;
     if (trajectory != nullptr) trajectory[k + 1 - k_begin] = s;
   }
@@ -360,8 +363,8 @@ bool DirectTranscription<Model>::advance(State& s, std::size_t k_begin, std::siz
 }
 
 template <class Model>
-template <class E>
-void DirectTranscription<Model>::propagate_sensitivity(const State& s, const State& next, std::size_t k, E& e) const {
+void DirectTranscription<Model>::propagate_sensitivity(const State& s, const State& next, std::size_t k,
+                                                       Evaluation& e) const {
   // Phi_{k+1} = A_k Phi_k + B0_k du_k/dc + B1_k du_{k+1}/dc (knot columns first).
   typename Model::MatW A;
   typename Model::MatWU B0, B1;
@@ -571,41 +574,55 @@ template <class Model>
 void DirectTranscription<Model>::shooting_gradients(const ShootingNodes& n, const Eigen::VectorXd& x,
                                                     ShootingEvaluation& e) const {
   using MatW = typename Model::MatW;
+  using MatWU = typename Model::MatWU;
   using VecW = typename Model::VecW;
   const int np = parameters(), K = n.segments(), m = constraints();
   e.cost_gradient.setZero(x.size());
   sample_controls_and_cost(x.head(np), true, e);
   e.jacobian_values.clear();
-  e.Phi.resize(nw, np + nw);
-  e.Phi_next.resize(nw, np + nw);
-  MatW J_d_a, J_d_b;
+  e.knot_rows.resize(nw, np);
+  MatW J_d_a, J_d_b, L, L_next, A;
+  MatWU B0, B1;
   const auto push = [&](const auto& block) {  // row-major, as shooting_structure lists it
     for (Eigen::Index r = 0; r < block.rows(); ++r) {
       for (Eigen::Index q = 0; q < block.cols(); ++q) e.jacobian_values.push_back(block(r, q));
     }
   };
   for (int j = 0; j < K; ++j) {
-    // Phi = d s / d[c, eta_j] from [0, I] at the segment's start, along the stored states.
+    // Reverse (adjoint) sweep along the stored states: the segment's output rows y = D s_end
+    // (D = the defect's d/d(end state) J_d_b, or the terminal rows' residual Jacobian, padded to
+    // nw rows with zeros) carried back as L_k = D A_{end-1} ... A_k, the knot rows accumulating
+    // L_{k+1} (B0_k S_k + B1_k S_{k+1}) per control component; L at the segment's start is
+    // dy/d eta_j. nw rows instead of the forward sweep's n_u knots + nw columns.
     const std::size_t k_begin = n.nodes[static_cast<std::size_t>(j)], k_end = n.nodes[static_cast<std::size_t>(j + 1)];
     const State* states = &e.states[k_begin + static_cast<std::size_t>(j)];
-    const VecW z_j = j == 0 ? VecW::Zero() : VecW(x.segment(np + (j - 1) * nw, nw));
-    e.Phi.setZero();
-    e.Phi.rightCols(nw).setIdentity();
-    for (std::size_t k = k_begin; k < k_end; ++k) propagate_sensitivity(states[k - k_begin], states[k + 1 - k_begin], k, e);
-    const State& s = states[k_end - k_begin];
-    if (j + 1 < K) {
+    const bool defect = j + 1 < K;
+    if (defect) {
       difference_jacobians<Model>(e.constraints.segment(j * nw, nw), J_d_a, J_d_b);
-      const Eigen::Matrix<double, nw, Eigen::Dynamic> Jc = J_d_b * e.Phi.leftCols(np);
-      push(Jc);
-      if (j >= 1) push(MatW(J_d_b * e.Phi.rightCols(nw) * retract_jacobian<Model>(z_j)));
-      push(MatW(J_d_a * retract_jacobian<Model>(x.segment(np + j * nw, nw))));
+      L = J_d_b;
     } else {
-      const typename Model::MatRW D = Model::residual_jacobian(lgvi_, problem_, s);
-      Eigen::MatrixXd Dr(m, nw);
-      for (int i = 0; i < m; ++i) Dr.row(i) = D.row(rows_[static_cast<std::size_t>(i)]);
-      push(Eigen::MatrixXd(Dr * e.Phi.leftCols(np)));
-      if (j >= 1) push(Eigen::MatrixXd(Dr * e.Phi.rightCols(nw) * retract_jacobian<Model>(z_j)));
+      const typename Model::MatRW D = Model::residual_jacobian(lgvi_, problem_, states[k_end - k_begin]);
+      L.setZero();
+      for (int i = 0; i < m; ++i) L.row(i) = D.row(rows_[static_cast<std::size_t>(i)]);
     }
+    e.knot_rows.setZero();
+    for (std::size_t k = k_end; k-- > k_begin;) {
+      const VecU u0 = e.controls.col(static_cast<Eigen::Index>(k));
+      const VecU u1 = e.controls.col(static_cast<Eigen::Index>(k + 1));
+      lgvi_.linearize(states[k - k_begin], states[k + 1 - k_begin], h_, u0, u1, A, B0, B1,
+                      LinearizationSolve::ClosedForm);
+      const MatWU LB0 = L.lazyProduct(B0), LB1 = L.lazyProduct(B1);
+      const auto s0 = S_.row(static_cast<Eigen::Index>(k)), s1 = S_.row(static_cast<Eigen::Index>(k + 1));
+      for (int a = 0; a < nu; ++a) {
+        e.knot_rows.middleCols(a * knots_, knots_).noalias() += LB0.col(a).lazyProduct(s0) + LB1.col(a).lazyProduct(s1);
+      }
+      L_next = L.lazyProduct(A);  // coefficient-based: into another matrix (L aliases)
+      L = L_next;
+    }
+    const int rows = defect ? nw : m;
+    push(e.knot_rows.topRows(rows));
+    if (j >= 1) push(MatW(L * retract_jacobian<Model>(VecW(x.segment(np + (j - 1) * nw, nw)))).topRows(rows));
+    if (defect) push(MatW(J_d_a * retract_jacobian<Model>(x.segment(np + j * nw, nw))));
   }
 }
 

@@ -361,14 +361,14 @@ class DirectTranscription {
     Eigen::VectorXd cost_gradient;     ///< with respect to x (zero on the z block)
     Eigen::VectorXd constraints;       ///< defects, then the terminal rows
     std::vector<double> jacobian_values;  ///< in shooting_structure's order
-    Eigen::Matrix<double, nw, Eigen::Dynamic> Phi, Phi_next;  ///< d(state)/d[c, start state]
+    Eigen::Matrix<double, nw, Eigen::Dynamic> knot_rows;  ///< a segment's rows' derivatives in c (buffer)
     NodeControls controls;
     /// The simulated states, segment by segment: segment j's start state and the states after
     /// each of its steps at positions n_j + j .. n_{j+1} + j (N + K states).
     std::vector<State> states;
   };
-  /// The constraints (and with `gradients` their exact sparse Jacobian, by the step
-  /// linearizations segment by segment, and the cost gradient) at x. Returns e.ok.
+  /// The constraints (and with `gradients` their exact sparse Jacobian, by a reverse sweep of
+  /// the step linearizations per segment, and the cost gradient) at x. Returns e.ok.
   bool evaluate_shooting(const ShootingNodes& n, const Eigen::VectorXd& x, bool gradients,
                          ShootingEvaluation& e) const;
   /// The gradients of evaluate_shooting(n, x, true, e) for an e that holds a successful
@@ -391,16 +391,15 @@ class DirectTranscription {
   /// (sized and zeroed by the caller).
   template <class E>
   void sample_controls_and_cost(const Eigen::VectorXd& c, bool gradients, E& e) const;
-  /// Steps `s` over [k_begin, k_end) with e.controls; with `gradients`, carries e.Phi (knot
-  /// columns first) through the step linearizations. With `trajectory`, stores the states
+  /// Steps `s` over [k_begin, k_end) with e.controls; with `gradients` (an Evaluation: single
+  /// shooting), carries e.Phi (knot columns first) through the step linearizations. With `trajectory`, stores the states
   /// s_{k_begin}..s_{k_end} there (k_end - k_begin + 1 of them). False, with e.failed_step and
   /// e.failure, at the first rotation update that does not converge (`s` then is the last good state).
   template <class E>
   bool advance(State& s, std::size_t k_begin, std::size_t k_end, bool gradients, E& e,
                State* trajectory = nullptr) const;
   /// Phi <- A_k Phi + B0_k S_k + B1_k S_{k+1} (per component) for step k from s to next.
-  template <class E>
-  void propagate_sensitivity(const State& s, const State& next, std::size_t k, E& e) const;
+  void propagate_sensitivity(const State& s, const State& next, std::size_t k, Evaluation& e) const;
 
   typename Model::Lgvi lgvi_;
   Transfer problem_;

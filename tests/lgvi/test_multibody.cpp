@@ -9,7 +9,10 @@
 #include <array>
 #include <cmath>
 #include <iostream>
+#include <random>
 #include <vector>
+
+#include <Eigen/SVD>
 
 #include "lgvi/integrate.hpp"
 #include "lgvi/multibody_lgvi.hpp"
@@ -330,6 +333,46 @@ TEST_P(MultibodyOrder, ConnectedBodiesWithControl) {
 
 INSTANTIATE_TEST_SUITE_P(Forms, MultibodyOrder, ::testing::Values(LgviForm::Symmetric, LgviForm::Printed),
                          [](const auto& info) { return std::string(to_string(info.param)); });
+
+// group_newton_detail::solve_newton_matrix_columns (the closed-form solve of the step
+// linearizations) against Eigen's pivoted LU on random well-conditioned systems of the Newton
+// matrices' shape (the locked inertias on the diagonal blocks, a weaker coupling off it): both
+// are backward stable, so they agree to ~n kappa eps |X|, bound roundoff(kappa |X|, n); and the
+// fallback when the first diagonal block is singular (no adjugate inverse): the LU's residual,
+// |DG X - B| <= roundoff(|DG| |X|, n).
+template <int N, int C>
+void check_closed_form_solve(const Eigen::Matrix<double, 3 * N, 3 * N>& DG, const Eigen::Matrix<double, 3 * N, C>& B) {
+  const Eigen::Matrix<double, 3 * N, C> X = group_newton_detail::solve_newton_matrix_columns<N, C>(DG, B);
+  const Eigen::Matrix<double, 3 * N, C> X_lu = DG.partialPivLu().solve(B);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd{Eigen::MatrixXd(DG)};
+  const double kappa = svd.singularValues()(0) / svd.singularValues()(3 * N - 1);
+  EXPECT_LE((X - X_lu).norm(), roundoff(kappa * X_lu.norm(), 3 * N)) << "kappa " << kappa;
+  EXPECT_LE((DG * X - B).norm(), roundoff(DG.norm() * X.norm(), 3 * N));
+}
+
+TEST(GroupNewton, ClosedFormSolveOfMatrixRightHandSidesAgreesWithPivotedLu) {
+  auto rng = make_rng(91);
+  std::normal_distribution<double> normal;
+  const auto random = [&](auto M) {
+    for (Eigen::Index i = 0; i < M.size(); ++i) M.data()[i] = normal(rng);
+    return M;
+  };
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::Matrix<double, 6, 6> DG = 0.3 * random(Eigen::Matrix<double, 6, 6>());
+    DG.topLeftCorner<3, 3>() += Vec3(2.0, 3.0, 4.0).asDiagonal();
+    DG.bottomRightCorner<3, 3>() += Vec3(1.0, 1.5, 0.5).asDiagonal();
+    check_closed_form_solve<2, 15>(DG, random(Eigen::Matrix<double, 6, 15>()));
+    Mat3 D1 = 0.3 * random(Mat3());
+    D1 += Vec3(2.0, 3.0, 4.0).asDiagonal();
+    check_closed_form_solve<1, 12>(D1, random(Eigen::Matrix<double, 3, 12>()));
+  }
+  // P = 0: the block elimination has no P^{-1}; the pivoted LU solves the (regular) system.
+  Eigen::Matrix<double, 6, 6> DG = Eigen::Matrix<double, 6, 6>::Zero();
+  DG.topRightCorner<3, 3>() = Mat3::Identity();
+  DG.bottomLeftCorner<3, 3>() = Vec3(1.0, 2.0, 3.0).asDiagonal();
+  DG.bottomRightCorner<3, 3>() = random(Mat3());
+  check_closed_form_solve<2, 15>(DG, random(Eigen::Matrix<double, 6, 15>()));
+}
 
 }  // namespace
 }  // namespace lgvi::test

@@ -115,10 +115,31 @@ ConnectedBodiesState perturbed(const ConnectedBodiesLgvi&, const ConnectedBodies
   return ocp::perturb(s, w);
 }
 
+/// The 2-norm condition number of a step's implicit-function matrix.
+double condition_number(const Eigen::MatrixXd& M) {
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M);
+  return svd.singularValues()(0) / svd.singularValues()(svd.singularValues().size() - 1);
+}
+/// J_G_xi of the step from s to out (the matrix the linearization solves with).
+Eigen::MatrixXd implicit_function_matrix(const CartPendulumLgvi& l, const CartPendulumState& s,
+                                         const CartPendulumState& out, double h, const Vec2& u0) {
+  const CartPendulumStepEquation equation(l.system(), s, h, impulse_weights(l.form(), h).start, u0);
+  return equation.J_G_xi(s.R.transpose() * out.R);
+}
+Eigen::MatrixXd implicit_function_matrix(const ConnectedBodiesLgvi& l, const ConnectedBodiesState& s,
+                                         const ConnectedBodiesState& out, double h, const Vec3& u0) {
+  const ConnectedBodiesStepEquation equation(l.system(), s, h, impulse_weights(l.form(), h).start, u0);
+  return equation.J_G_xi(s.R1.transpose() * out.R1, s.R2.transpose() * out.R2);
+}
+
 // The flow's linearization (Lgvi::linearize, lgvi/multibody_lgvi.*) against central differences
 // of its step(), column by column, with the balanced step kFdStep = eps^(1/3) on these O(1)
 // variables and the bound kFdTolerance = 1e3 eps^(2/3) relative to the Jacobians' norm
 // (test_support.hpp): truncation and the step's round-off / kFdStep are both ~eps^(2/3).
+// Then the closed-form solve of the implicit-function system (LinearizationSolve::ClosedForm)
+// against the pivoted LU's: both backward stable, so each X = -J_G_xi^{-1} J_G_in is within
+// ~n kappa(J_G_xi) eps |X| of the exact one, and the Jacobians (affine in X with O(1)
+// coefficients, formed by the same code) within that bound of each other: roundoff(kappa |J|, n).
 template <class Lgvi, class Model>
 void check_step_jacobians(const Lgvi& lgvi, const typename Lgvi::State& s, double h,
                           const typename Lgvi::Control& u0, const typename Lgvi::Control& u1, double& worst) {
@@ -155,7 +176,15 @@ void check_step_jacobians(const Lgvi& lgvi, const typename Lgvi::State& s, doubl
   worst = std::max(worst, error);
   EXPECT_LE(error, kFdTolerance) << "A\n" << A << "\nfd\n" << A_fd << "\nB0\n" << B0 << "\nfd\n"
                                               << B0_fd << "\nB1\n" << B1 << "\nfd\n" << B1_fd;
+  const double kappa = condition_number(implicit_function_matrix(lgvi, s, out, h, u0));
+  StateJacobian A_cf;
+  ControlJacobian B0_cf, B1_cf;
+  lgvi.linearize(s, out, h, u0, u1, A_cf, B0_cf, B1_cf, LinearizationSolve::ClosedForm);
+  const double closed_form_difference = std::max({(A_cf - A).norm(), (B0_cf - B0).norm(), (B1_cf - B1).norm()});
+  EXPECT_LE(closed_form_difference, roundoff(kappa * scale, ControlJacobian::ColsAtCompileTime == 2 ? 3 : 6))
+      << "kappa(J_G_xi) = " << kappa;
 }
+
 
 TEST(DirectLinearization, CartPendulumStepMatchesDifferences) {
   double worst = 0.0;

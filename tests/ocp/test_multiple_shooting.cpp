@@ -4,7 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <random>
+
+#include <unistd.h>
 
 #include "lgvi/ocp/direct.hpp"
 #include "test_support.hpp"
@@ -155,6 +159,24 @@ TEST(MultipleShooting, CartPendulumPaperExample) {
   EXPECT_LE(S.violation, o.tolerance);
   EXPECT_LE(S.cost, 283.29);
   EXPECT_EQ(result.states.size(), S.steps + 1);
+}
+
+// IPOPT's options file is not read: an ipopt.opt in the working directory capping IPOPT at 2
+// iterations (the solve takes ~35) leaves the solve converged.
+TEST(MultipleShooting, IgnoresAnIpoptOptionsFileInTheWorkingDirectory) {
+  namespace fs = std::filesystem;
+  const fs::path before = fs::current_path();
+  const fs::path dir = fs::temp_directory_path() / ("lgvi-ipopt-opt-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  { std::ofstream(dir / "ipopt.opt") << "max_iter 2\n"; }
+  fs::current_path(dir);
+  ocp::DirectOptions o;
+  o.solver = ocp::DirectSolver::IpoptMultipleShooting;
+  const ocp::DirectSummary S = ocp::solve_direct(CartPendulum::paper(), ocp::CartPendulumTransfer::paper(), o).summary;
+  fs::current_path(before);
+  fs::remove_all(dir);
+  EXPECT_EQ(S.status, ocp::DirectStatus::Converged) << S.brief();
+  EXPECT_GT(S.iterations, 2);
 }
 
 // Section 4.2 by IPOPT from random start 1 of the CLI's multistart (seed 1; README): a feasible
