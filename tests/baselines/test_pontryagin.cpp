@@ -414,6 +414,51 @@ TEST(DumbbellPontryagin, OdeJacobianMatchesFiniteDifferences) {
   }
 }
 
+// Where the dumbbell's continuous shooting stops (lgvi/ocp/README.md: violation 9.2e-9 at rtol
+// 1e-12, above the tolerance 1e2 rtol): at the computed residual's noise. From the discrete
+// symmetric N = 1000 solution (homotopy), the continuous shooting's end point lambda*; then r at
+// lambda* (1 + k 1e-15 d), k = -5..5, d a unit direction: perturbations of ~10 ulps, for which the
+// linearization r + J dlambda is exact to far below the noise (|dlambda| ~ 1e-15 |lambda|, the
+// second-order term ~|J'| |dlambda|^2). The scatter about that line is the computed residual's
+// noise (the integration's round-off and stopping tests amplified by the stiff rod axis, Psi ~
+// 1e6); Newton cannot resolve r below it, so the end point's violation must be of its size:
+// scatter >= violation / 10 (a Newton failure above the noise would leave the violation far
+// larger than the scatter).
+TEST(DumbbellPontryagin, ShootingStopsAtTheResidualsNoiseFloor) {
+  const DumbbellSpacecraft d = DumbbellSpacecraft::paper();
+  const TransferProblem problem = TransferProblem::dumbbell_paper();
+  ocp::ShootingOptions discrete;
+  discrete.h = problem.t_final / 1000;
+  discrete.globalization = ocp::Globalization::Homotopy;
+  discrete.max_iterations = 300;
+  const auto start = ocp::solve_indirect(d, problem, discrete);
+  ASSERT_EQ(start.summary.status, ShootingStatus::Converged) << start.summary.brief();
+  ContinuousShootingOptions o;
+  o.integration.rtol = 1e-12;
+  o.max_iterations = 300;
+  o.initial_costate = start.summary.multiplier;
+  const auto end = baselines::solve_pontryagin(d, problem, o);
+  ASSERT_TRUE(std::isfinite(end.summary.violation)) << end.summary.brief();
+  const baselines::DumbbellShootingFunction fn(d, problem, {}, o.integration);
+  const baselines::Vec12 lambda = end.summary.multiplier;
+  const auto at = fn.evaluate(lambda, true);
+  ASSERT_TRUE(at.ok) << at.message;
+  const baselines::Vec12 direction = baselines::Vec12::Ones().normalized();
+  double scatter = 0.0;
+  for (int k = -5; k <= 5; ++k) {
+    const baselines::Vec12 dlambda = (k * 1e-15 * lambda.norm()) * direction;
+    const auto e = fn.evaluate(lambda + dlambda, true);  // as the shooting evaluates
+    ASSERT_TRUE(e.ok) << e.message;
+    scatter = std::max(scatter, (e.residual - at.residual - at.jacobian * dlambda).norm());
+  }
+  // The same residual without the sensitivities in CVODES's error test (another step sequence):
+  // the integration error of r itself, reported beside the noise.
+  const auto values_only = fn.evaluate(lambda, false);
+  std::cout << "[ measured ] violation " << end.summary.violation << ", scatter of r under 1e-15 relative "
+            << "perturbations " << scatter << ", |r| without sensitivities " << values_only.residual.norm() << "\n";
+  EXPECT_GE(scatter, 0.1 * end.summary.violation);
+}
+
 // The continuous conditions are the limit of the discrete ones: from the same lambda(0), the
 // symmetric discrete sweep (lgvi/ocp/indirect.hpp, a second-order LGVI with trapezoidal node
 // controls) has terminal residual and Psi12 = dw_N/dlambda_0 within O(h^2) of the continuous r and
