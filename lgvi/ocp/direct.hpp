@@ -392,8 +392,8 @@ class DirectTranscription {
   template <class E>
   void sample_controls_and_cost(const Eigen::VectorXd& c, bool gradients, E& e) const;
   /// Steps `s` over [k_begin, k_end) with e.controls; with `gradients` (an Evaluation: single
-  /// shooting), carries e.Phi (knot columns first) through the step linearizations. With `trajectory`, stores the states
-  /// s_{k_begin}..s_{k_end} there (k_end - k_begin + 1 of them). False, with e.failed_step and
+  /// shooting), carries e.Phi (knot columns first) through the step linearizations. With
+  /// `trajectory`, stores the states s_{k_begin}..s_{k_end} there (k_end - k_begin + 1 of them). False, with e.failed_step and
   /// e.failure, at the first rotation update that does not converge (`s` then is the last good state).
   template <class E>
   bool advance(State& s, std::size_t k_begin, std::size_t k_end, bool gradients, E& e,

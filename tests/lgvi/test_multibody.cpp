@@ -336,8 +336,9 @@ INSTANTIATE_TEST_SUITE_P(Forms, MultibodyOrder, ::testing::Values(LgviForm::Symm
 
 // group_newton_detail::solve_newton_matrix_columns (the closed-form solve of the step
 // linearizations) against Eigen's pivoted LU on random well-conditioned systems of the Newton
-// matrices' shape (the locked inertias on the diagonal blocks, a weaker coupling off it): both
-// are backward stable, so they agree to ~n kappa eps |X|, bound roundoff(kappa |X|, n); and the
+// matrices' shape (the locked inertias on the diagonal blocks, a weaker coupling off it), where
+// both are stable (the LU backward stable, the block elimination for well-conditioned diagonal
+// blocks), so they agree to ~n kappa eps |X|, bound roundoff(kappa |X|, n); and the
 // fallback when the first diagonal block is singular (no adjugate inverse): the LU's residual,
 // |DG X - B| <= roundoff(|DG| |X|, n).
 template <int N, int C>

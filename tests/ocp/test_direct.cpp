@@ -137,9 +137,10 @@ Eigen::MatrixXd implicit_function_matrix(const ConnectedBodiesLgvi& l, const Con
 // variables and the bound kFdTolerance = 1e3 eps^(2/3) relative to the Jacobians' norm
 // (test_support.hpp): truncation and the step's round-off / kFdStep are both ~eps^(2/3).
 // Then the closed-form solve of the implicit-function system (LinearizationSolve::ClosedForm)
-// against the pivoted LU's: both backward stable, so each X = -J_G_xi^{-1} J_G_in is within
-// ~n kappa(J_G_xi) eps |X| of the exact one, and the Jacobians (affine in X with O(1)
-// coefficients, formed by the same code) within that bound of each other: roundoff(kappa |J|, n).
+// against the pivoted LU's: the LU is backward stable and the block elimination is for the
+// well-conditioned diagonal blocks these steps have (locked inertias), so each X =
+// -J_G_xi^{-1} J_G_in is within ~n kappa(J_G_xi) eps |X| of the exact one, and the Jacobians
+// (formed from X by the same code) within that bound relative to their norm: roundoff(kappa |J|, n).
 template <class Lgvi, class Model>
 void check_step_jacobians(const Lgvi& lgvi, const typename Lgvi::State& s, double h,
                           const typename Lgvi::Control& u0, const typename Lgvi::Control& u1, double& worst) {
