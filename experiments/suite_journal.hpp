@@ -26,8 +26,8 @@ namespace lgvi::experiments {
 struct Suite;
 
 /// A file a suite was made from, in its fingerprint (suite_fingerprint): the study file, the
-/// scene files it names and the files those read (Scene::inputs: control samples). `what` names it in messages ("the study file x.toml"); `digest` is
-/// the FNV-1a 64 of its bytes.
+/// scene files it names and the files those read (Scene::inputs: control samples). `what`
+/// names it in messages ("the study file x.toml"); `digest` is the FNV-1a 64 of its bytes.
 struct SuiteInput {
   std::string what;
   std::string digest;

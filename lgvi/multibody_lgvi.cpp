@@ -32,6 +32,17 @@ void require_rotation(const Mat3& R, const std::string& field) {
     throw InvalidInput(field, "is not a rotation matrix (R^T R != I or det R != 1)");
   }
 }
+
+/// X = -J_G_xi^{-1} J_G_in, the implicit-function solve of a step linearization, as `solve` says.
+template <int N, int C>
+Eigen::Matrix<double, 3 * N, C> implicit_function_solve(const Eigen::Matrix<double, 3 * N, 3 * N>& J_G_xi,
+                                                        const Eigen::Matrix<double, 3 * N, C>& J_G_in,
+                                                        LinearizationSolve solve) {
+  if (solve == LinearizationSolve::ClosedForm) {
+    return -group_newton_detail::solve_newton_matrix_columns<N, C>(J_G_xi, J_G_in);
+  }
+  return -J_G_xi.partialPivLu().solve(J_G_in);
+}
 }  // namespace
 
 CartPendulumLgvi::State CartPendulumLgvi::make_state(const Mat3& R, const Vec2& q,
@@ -110,11 +121,7 @@ void CartPendulumLgvi::linearize(const State& in, const State& out, double h, co
 
   // G(F; w_k, u_k) = 0 with F -> F exp(hat xi): dxi/d[w_k; u_k] = -J_G_xi^{-1} J_G_in.
   const CartPendulumStepEquation equation(S, in, h, c0, u_k);
-  const Mat3 J_G_xi = equation.J_G_xi(F);
-  const Eigen::Matrix<double, 3, 12> J_G_in = equation.J_G_in(F);
-  const Eigen::Matrix<double, 3, 12> X = solve == LinearizationSolve::ClosedForm
-                                             ? Eigen::Matrix<double, 3, 12>(-group_newton_detail::solve_newton_matrix_columns<1, 12>(J_G_xi, J_G_in))
-                                             : Eigen::Matrix<double, 3, 12>(-J_G_xi.partialPivLu().solve(J_G_in));
+  const Eigen::Matrix<double, 3, 12> X = implicit_function_solve<1, 12>(equation.J_G_xi(F), equation.J_G_in(F), solve);
 
   // eta' = F^T eta + xi.
   Eigen::Matrix<double, 3, 12> Eta = X;
@@ -221,11 +228,8 @@ void ConnectedBodiesLgvi::linearize(const State& in, const State& out, double h,
 
   // G(F1, F2; w_k, u_k) = 0 with F_i -> F_i exp(hat xi_i): dxi/d[w_k; u_k] = -J_G_xi^{-1} J_G_in.
   const ConnectedBodiesStepEquation equation(S, in, h, c0, u_k);
-  const Mat6x6 J_G_xi = equation.J_G_xi(F1, F2);
-  const Eigen::Matrix<double, 6, 15> J_G_in = equation.J_G_in(F1, F2);
-  const Eigen::Matrix<double, 6, 15> X = solve == LinearizationSolve::ClosedForm
-                                             ? Eigen::Matrix<double, 6, 15>(-group_newton_detail::solve_newton_matrix_columns<2, 15>(J_G_xi, J_G_in))
-                                             : Eigen::Matrix<double, 6, 15>(-J_G_xi.partialPivLu().solve(J_G_in));
+  const Eigen::Matrix<double, 6, 15> X =
+      implicit_function_solve<2, 15>(equation.J_G_xi(F1, F2), equation.J_G_in(F1, F2), solve);
   const auto X1 = X.topRows<3>();
   const auto X2 = X.bottomRows<3>();
 
