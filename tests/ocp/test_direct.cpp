@@ -12,6 +12,7 @@
 #include <Eigen/SVD>
 
 #include "lgvi/ocp/direct.hpp"
+#include "lgvi/ocp/newton_armijo.hpp"
 #include "lgvi/ocp/spline.hpp"
 #include "lgvi/so3.hpp"
 #include "test_support.hpp"
@@ -115,11 +116,6 @@ ConnectedBodiesState perturbed(const ConnectedBodiesLgvi&, const ConnectedBodies
   return ocp::perturb(s, w);
 }
 
-/// The 2-norm condition number of a step's implicit-function matrix.
-double condition_number(const Eigen::MatrixXd& M) {
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M);
-  return svd.singularValues()(0) / svd.singularValues()(svd.singularValues().size() - 1);
-}
 /// J_G_xi of the step from s to out (the matrix the linearization solves with).
 Eigen::MatrixXd implicit_function_matrix(const CartPendulumLgvi& l, const CartPendulumState& s,
                                          const CartPendulumState& out, double h, const Vec2& u0) {
@@ -177,7 +173,7 @@ void check_step_jacobians(const Lgvi& lgvi, const typename Lgvi::State& s, doubl
   worst = std::max(worst, error);
   EXPECT_LE(error, kFdTolerance) << "A\n" << A << "\nfd\n" << A_fd << "\nB0\n" << B0 << "\nfd\n"
                                               << B0_fd << "\nB1\n" << B1 << "\nfd\n" << B1_fd;
-  const double kappa = condition_number(implicit_function_matrix(lgvi, s, out, h, u0));
+  const double kappa = ocp::condition_number(implicit_function_matrix(lgvi, s, out, h, u0));
   StateJacobian A_cf;
   ControlJacobian B0_cf, B1_cf;
   lgvi.linearize(s, out, h, u0, u1, A_cf, B0_cf, B1_cf, LinearizationSolve::ClosedForm);
