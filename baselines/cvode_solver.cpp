@@ -67,6 +67,8 @@ int cv_project(realtype /*t*/, N_Vector ycur, N_Vector corr, realtype /*eps*/, N
 
 }  // namespace
 
+namespace {
+
 Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
   CvodeUser user{&run, std::vector<double>(run.n * run.n)};
   CvodeObjects cv;
@@ -153,5 +155,10 @@ Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
   std::copy(N_VGetArrayPointer(cv.y), N_VGetArrayPointer(cv.y) + run.n, y.begin());
   return run.stats;
 }
+
+}  // namespace
+
+Stats run_cvode_adams(Run& run, std::vector<double>& y) { return run_cvode(run, y, false); }
+Stats run_cvode_bdf(Run& run, std::vector<double>& y) { return run_cvode(run, y, true); }
 
 }  // namespace lgvi::baselines::detail

@@ -64,19 +64,20 @@ std::string gsl_status(int status) {
 
 }  // namespace
 
-Stats run_gsl(Run& run, std::vector<double>& y) {
+namespace {
+
+/// The GSL stepper `type` on the run: fixed step (the implicit rk4imp, its Newton iteration to
+/// newton_tolerance) or adaptive, the first step estimated for `initial_order` (8 for rk8pd, 1
+/// for msbdf, which starts at order 1); `one_step` (rk8pd) keeps no state between steps, so the
+/// Hermite output's midpoint may take a step of it.
+Stats run_gsl(Run& run, std::vector<double>& y, const gsl_odeiv2_step_type* type, bool fixed, int initial_order,
+              bool one_step) {
   if (run.done()) return run.stats;
   const HandlerGuard guard;
   gsl_odeiv2_system sys{gsl_rhs, gsl_jac, run.n, &run};
-  const std::string& m = run.method;
-  const bool fixed = m == "gsl-rk4imp";
-  const gsl_odeiv2_step_type* type = m == "gsl-rk8pd"    ? gsl_odeiv2_step_rk8pd
-                                     : m == "gsl-rk4imp" ? gsl_odeiv2_step_rk4imp
-                                                         : gsl_odeiv2_step_msbdf;
   const double tol_abs = fixed ? run.settings.newton_tolerance : *run.settings.atol;
   const double tol_rel = fixed ? run.settings.newton_tolerance : *run.settings.rtol;
-  // First step of the adaptive methods: for order 8 (rk8pd) or 1 (msbdf starts at order 1).
-  double h = fixed ? *run.settings.h : run.initial_step(m == "gsl-rk8pd" ? 8 : 1, y.data());
+  double h = fixed ? *run.settings.h : run.initial_step(initial_order, y.data());
   std::unique_ptr<gsl_odeiv2_driver, DriverDeleter> d(gsl_odeiv2_driver_alloc_y_new(&sys, type, h, tol_abs, tol_rel));
   if (!d) {
     run.stop_failed(run.times[0], "gsl_odeiv2_driver_alloc_y_new failed");
@@ -103,7 +104,7 @@ Stats run_gsl(Run& run, std::vector<double>& y) {
   // Nordsieck history must not be disturbed.
   std::vector<double> yerr(run.n);
   HermiteOutput::MidpointStep midpoint;
-  if (m == "gsl-rk8pd" && run.settings.hermite_midpoint) {
+  if (one_step && run.settings.hermite_midpoint) {
     midpoint = [&](double t0, const double* y0, const double* f0, double hm, double* y_out) {
       std::copy(y0, y0 + run.n, y_out);
       return gsl_odeiv2_step_apply(d->s, t0, hm, y_out, yerr.data(), f0, nullptr, &sys) == GSL_SUCCESS;
@@ -147,5 +148,11 @@ Stats run_gsl(Run& run, std::vector<double>& y) {
   }
   return run.stats;
 }
+
+}  // namespace
+
+Stats run_gsl_rk8pd(Run& run, std::vector<double>& y) { return run_gsl(run, y, gsl_odeiv2_step_rk8pd, false, 8, true); }
+Stats run_gsl_rk4imp(Run& run, std::vector<double>& y) { return run_gsl(run, y, gsl_odeiv2_step_rk4imp, true, 1, false); }
+Stats run_gsl_msbdf(Run& run, std::vector<double>& y) { return run_gsl(run, y, gsl_odeiv2_step_msbdf, false, 1, false); }
 
 }  // namespace lgvi::baselines::detail

@@ -25,7 +25,9 @@
 // The model layer (baselines/model.hpp) differentiates the rest by central differences.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <concepts>
 #include <functional>
 #include <utility>
@@ -118,6 +120,73 @@ class AttitudeMechanics {
  private:
   const S& system_;
   std::function<Control(double)> control_;
+};
+
+/// An attitude system's mechanics with an extra body-frame moment tau_e(t, R, Omega) (one
+/// wrapper for "a system plus an extra moment"):
+///     Omega' = J^{-1} (J Omega x Omega + M(R) + tau(R, u(t)) + tau_e(t, R, Omega)).
+/// The scenes' PD attitude feedback (tau_e = tau(R, law(R, Omega)), lgvi/feedback_lgvi.hpp) and
+/// the gravity-gradient moment of a body on a circular orbit (tau_e = 3 n^2 c x J c,
+/// c = R^T r(t), lgvi/gravity_gradient_lgvi.hpp) are two such moments. The velocity Jacobian adds
+/// tau_e's derivative in Omega by central differences when it depends on the rate (exact up to
+/// rounding for a moment affine in Omega, as the PD law is); the attitude part comes from the
+/// coordinate model's differences of the acceleration.
+template <AttitudeSystem S>
+class AttitudeMechanicsWithMoment {
+ public:
+  using Base = AttitudeMechanics<S>;
+  static constexpr int bodies = Base::bodies;
+  static constexpr int positions = Base::positions;
+  static constexpr int velocities = Base::velocities;
+  static constexpr bool rates_are_velocities = Base::rates_are_velocities;
+  using System = S;
+  using Control = typename S::Control;
+  using Config = typename Base::Config;
+  using Rate = typename Base::Rate;
+  using Velocity = typename Base::Velocity;
+  using Moment = std::function<Vec3(double t, const Mat3& R, const Vec3& Omega)>;
+  /// What tau_e depends on besides R: time (the run is then time-dependent) and the rate Omega
+  /// (its derivative then enters the velocity Jacobian).
+  struct Dependence {
+    bool time = false;
+    bool rate = false;
+  };
+
+  /// `control` may be empty (no control). Holds the system by reference.
+  AttitudeMechanicsWithMoment(const S& system, std::function<Control(double)> control, Moment moment,
+                              Dependence depends)
+      : base_(system, std::move(control)), moment_(std::move(moment)), depends_(depends) {}
+
+  void rates(const Config& c, const Velocity& w, Rate& r) const { base_.rates(c, w, r); }
+  Velocity acceleration(double t, const Config& c, const Velocity& w) const {
+    return base_.acceleration(t, c, w) + moment_acceleration(t, c.R[0], w);
+  }
+  Mat3 velocity_jacobian(double t, const Config& c, const Velocity& w) const {
+    Mat3 A = base_.velocity_jacobian(t, c, w);
+    if (!depends_.rate) return A;
+    for (int k = 0; k < 3; ++k) {
+      const double a = 1e-6 * std::max(1.0, std::abs(w(k)));
+      Vec3 plus = w, minus = w;
+      plus(k) += a;
+      minus(k) -= a;
+      A.col(k) += (moment_acceleration(t, c.R[0], plus) - moment_acceleration(t, c.R[0], minus)) / (2.0 * a);
+    }
+    return A;
+  }
+  Velocity velocity_state(const Config& c, const std::array<Vec3, 1>& Omega, const Vector<0>& x_dot) const {
+    return base_.velocity_state(c, Omega, x_dot);
+  }
+  bool time_dependent() const { return depends_.time || base_.time_dependent(); }
+  const S& system() const { return base_.system(); }
+
+ private:
+  Vec3 moment_acceleration(double t, const Mat3& R, const Vec3& Omega) const {
+    return base_.system().inertia.J_inverse * moment_(t, R, Omega);
+  }
+
+  Base base_;
+  Moment moment_;
+  Dependence depends_;
 };
 
 /// The dumbbell on SE(3): x, v inertial, w = (Omega, v),

@@ -179,46 +179,43 @@ void controlled_loop(Run& run, State& y, Stepper& stepper, int order) {
   }
 }
 
-void dispatch(Run& run, State& y) {
-  const std::string& m = run.method;
-  if (m == "odeint-rk4") {
-    odeint::runge_kutta4<State> stepper;
-    const System system{&run};
-    fixed_step_loop(run, y, [&](double t, double h, State& state) {
-      stepper.do_step(system, state, t, h);
-      return true;
-    });
-    return;
-  }
-  const double rtol = *run.settings.rtol, atol = *run.settings.atol;
-  if (m == "odeint-dopri5") {
-    // What make_dense_output(atol, rtol, dopri5) builds, with the error checker counting rejections.
-    using Dopri = odeint::runge_kutta_dopri5<State>;
-    using Controlled = odeint::controlled_runge_kutta<Dopri, CountingErrorChecker<Dopri>>;
-    odeint::dense_output_runge_kutta<Controlled> stepper(
-        Controlled(CountingErrorChecker<Dopri>(atol, rtol, &run.stats.rejected_steps)));
-    dense_loop(run, y, stepper, 5);
-  } else if (m == "odeint-rkf78") {
-    auto stepper = odeint::make_controlled(atol, rtol, odeint::runge_kutta_fehlberg78<State>());
-    controlled_loop(run, y, stepper, 7);
-  } else if (m == "odeint-bs") {
-    // Error factors as odeint's defaults (|y| and dt |y'|); the interpolation error is
-    // controlled too, since the requested times are interpolated. Its rejected steps are not
-    // reported (odeint retries inside do_step). First step estimated for order 8 (odeint starts
-    // the extrapolation at k = 4 columns, order 2k).
-    odeint::bulirsch_stoer_dense_out<State> stepper(atol, rtol, 1.0, 1.0, 0.0, true);
-    dense_loop(run, y, stepper, 8);
-  } else {
-    throw std::logic_error("odeint adapter: unknown method " + m);
-  }
+void rk4(Run& run, State& y) {
+  odeint::runge_kutta4<State> stepper;
+  const System system{&run};
+  fixed_step_loop(run, y, [&](double t, double h, State& state) {
+    stepper.do_step(system, state, t, h);
+    return true;
+  });
 }
 
-}  // namespace
+void dopri5(Run& run, State& y) {
+  // What make_dense_output(atol, rtol, dopri5) builds, with the error checker counting rejections.
+  using Dopri = odeint::runge_kutta_dopri5<State>;
+  using Controlled = odeint::controlled_runge_kutta<Dopri, CountingErrorChecker<Dopri>>;
+  odeint::dense_output_runge_kutta<Controlled> stepper(
+      Controlled(CountingErrorChecker<Dopri>(*run.settings.atol, *run.settings.rtol, &run.stats.rejected_steps)));
+  dense_loop(run, y, stepper, 5);
+}
 
-Stats run_odeint(Run& run, std::vector<double>& y) {
+void rkf78(Run& run, State& y) {
+  auto stepper = odeint::make_controlled(*run.settings.atol, *run.settings.rtol, odeint::runge_kutta_fehlberg78<State>());
+  controlled_loop(run, y, stepper, 7);
+}
+
+void bulirsch_stoer(Run& run, State& y) {
+  // Error factors as odeint's defaults (|y| and dt |y'|); the interpolation error is
+  // controlled too, since the requested times are interpolated. Its rejected steps are not
+  // reported (odeint retries inside do_step). First step estimated for order 8 (odeint starts
+  // the extrapolation at k = 4 columns, order 2k).
+  odeint::bulirsch_stoer_dense_out<State> stepper(*run.settings.atol, *run.settings.rtol, 1.0, 1.0, 0.0, true);
+  dense_loop(run, y, stepper, 8);
+}
+
+/// One of the loops above, its odeint failures turned into the run's stop.
+Stats run_guarded(Run& run, std::vector<double>& y, void (*loop)(Run&, State&)) {
   if (run.done()) return run.stats;
   try {
-    dispatch(run, y);
+    loop(run, y);
   } catch (const RhsFailure&) {
     run.stop_on_rhs_failure();
   } catch (const odeint::step_adjustment_error& e) {
@@ -228,5 +225,12 @@ Stats run_odeint(Run& run, std::vector<double>& y) {
   }
   return run.stats;
 }
+
+}  // namespace
+
+Stats run_odeint_rk4(Run& run, std::vector<double>& y) { return run_guarded(run, y, rk4); }
+Stats run_odeint_dopri5(Run& run, std::vector<double>& y) { return run_guarded(run, y, dopri5); }
+Stats run_odeint_rkf78(Run& run, std::vector<double>& y) { return run_guarded(run, y, rkf78); }
+Stats run_odeint_bs(Run& run, std::vector<double>& y) { return run_guarded(run, y, bulirsch_stoer); }
 
 }  // namespace lgvi::baselines::detail

@@ -14,21 +14,24 @@ namespace lgvi::baselines {
 const std::vector<SolverInfo>& solver_list() {
   static const std::vector<SolverInfo> list = {
       {"cvode-adams", StepControl::Adaptive, false, "SUNDIALS CVODE Adams-Moulton (orders 1-12), Newton + dense LU", 0, 0,
-       true, OutputInterpolation::Cvode},
+       true, OutputInterpolation::Cvode, detail::run_cvode_adams, true},
       {"cvode-bdf", StepControl::Adaptive, true, "SUNDIALS CVODE BDF (orders 1-5), Newton + dense LU", 0, 0, true,
-       OutputInterpolation::Cvode},
+       OutputInterpolation::Cvode, detail::run_cvode_bdf, true},
       {"odeint-rk4", StepControl::Fixed, true, "Boost.Odeint classic Runge-Kutta 4, fixed step", 4, 4, false,
-       OutputInterpolation::FixedGrid},
+       OutputInterpolation::FixedGrid, detail::run_odeint_rk4},
       {"odeint-dopri5", StepControl::Adaptive, true, "Boost.Odeint Dormand-Prince 5(4), dense output", 0, 0, false,
-       OutputInterpolation::DenseOutput},
-      {"odeint-rkf78", StepControl::Adaptive, true, "Boost.Odeint Runge-Kutta-Fehlberg 7(8)"},
+       OutputInterpolation::DenseOutput, detail::run_odeint_dopri5},
+      {"odeint-rkf78", StepControl::Adaptive, true, "Boost.Odeint Runge-Kutta-Fehlberg 7(8)", 0, 0, false,
+       OutputInterpolation::Hermite, detail::run_odeint_rkf78},
       {"odeint-bs", StepControl::Adaptive, true, "Boost.Odeint Bulirsch-Stoer, dense output", 0, 0, false,
-       OutputInterpolation::DenseOutput},
-      {"gsl-rk8pd", StepControl::Adaptive, true, "GSL odeiv2 Prince-Dormand 8(9)"},
+       OutputInterpolation::DenseOutput, detail::run_odeint_bs},
+      {"gsl-rk8pd", StepControl::Adaptive, true, "GSL odeiv2 Prince-Dormand 8(9)", 0, 0, false,
+       OutputInterpolation::Hermite, detail::run_gsl_rk8pd},
       {"gsl-rk4imp", StepControl::Fixed, true,
        "GSL odeiv2 Gauss-Legendre 2-stage (order 4, symplectic), fixed step, modified Newton", 4, 2, true,
-       OutputInterpolation::FixedGrid},
-      {"gsl-msbdf", StepControl::Adaptive, false, "GSL odeiv2 variable-order BDF (orders 1-5), Newton", 0, 0, true},
+       OutputInterpolation::FixedGrid, detail::run_gsl_rk4imp},
+      {"gsl-msbdf", StepControl::Adaptive, false, "GSL odeiv2 variable-order BDF (orders 1-5), Newton", 0, 0, true,
+       OutputInterpolation::Hermite, detail::run_gsl_msbdf},
   };
   return list;
 }
@@ -69,7 +72,7 @@ SolverSettings resolve_settings(const SolverInfo& info, const SolverSettings& se
                                             "between steps would restart its multistep history at order 1 every "
                                             "step); use cvode-bdf (CVODE's projection) or a one-step method");
   }
-  if (s.jacobian == JacobianSource::DifferenceQuotient && info.name.rfind("cvode-", 0) != 0) {
+  if (s.jacobian == JacobianSource::DifferenceQuotient && !info.difference_quotient_jacobian) {
     throw InvalidInput("jacobian", "only CVODE has a difference-quotient Jacobian; " + info.name +
                                        " uses the model's");
   }
@@ -117,12 +120,8 @@ Stats integrate(const std::string& method, const Ode& ode, std::span<const doubl
   } else if (run.singular_at(y.data())) {
     run.stop_singular(times[0], y.data());
     stats = run.stats;
-  } else if (method.rfind("cvode-", 0) == 0) {
-    stats = detail::run_cvode(run, y, method == "cvode-bdf");
-  } else if (method.rfind("odeint-", 0) == 0) {
-    stats = detail::run_odeint(run, y);
   } else {
-    stats = detail::run_gsl(run, y);
+    stats = info.adapter(run, y);
   }
   stats.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return stats;

@@ -82,6 +82,13 @@ enum class OutputInterpolation {
   Hermite,      ///< the quintic Hermite interpolant of the accepted steps (solver_detail.hpp)
 };
 
+namespace detail {
+class Run;  // solver_detail.hpp
+}
+
+/// A solver's adapter: runs its library's integrator on `run` from y (solver_detail.hpp).
+using SolverAdapter = Stats (*)(detail::Run& run, std::vector<double>& y);
+
 struct SolverInfo {
   std::string name;
   StepControl step_control;
@@ -91,6 +98,9 @@ struct SolverInfo {
   int stages = 0;       ///< RHS stages per step of the fixed-step methods; 0: varies
   bool uses_jacobian = false;  ///< Newton iterations on the model's Jacobian (implicit methods)
   OutputInterpolation output = OutputInterpolation::Hermite;
+  SolverAdapter adapter = nullptr;  ///< the solver itself: integrate() calls it, no name is compared
+  /// Offers its library's difference-quotient Jacobian (JacobianSource::DifferenceQuotient: CVODE).
+  bool difference_quotient_jacobian = false;
 };
 
 /// Every baseline method, in the order of the list above.

@@ -199,8 +199,15 @@ void fixed_step_loop(Run& run, std::vector<double>& y, Step&& step) {
   }
 }
 
-Stats run_cvode(Run& run, std::vector<double>& y, bool bdf);
-Stats run_odeint(Run& run, std::vector<double>& y);
-Stats run_gsl(Run& run, std::vector<double>& y);
+// The adapters, one per solver (SolverInfo::adapter; solver_list() names each once).
+Stats run_cvode_adams(Run& run, std::vector<double>& y);
+Stats run_cvode_bdf(Run& run, std::vector<double>& y);
+Stats run_odeint_rk4(Run& run, std::vector<double>& y);
+Stats run_odeint_dopri5(Run& run, std::vector<double>& y);
+Stats run_odeint_rkf78(Run& run, std::vector<double>& y);
+Stats run_odeint_bs(Run& run, std::vector<double>& y);
+Stats run_gsl_rk8pd(Run& run, std::vector<double>& y);
+Stats run_gsl_rk4imp(Run& run, std::vector<double>& y);
+Stats run_gsl_msbdf(Run& run, std::vector<double>& y);
 
 }  // namespace lgvi::baselines::detail

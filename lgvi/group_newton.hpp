@@ -44,7 +44,7 @@ inline bool inverse_adjugate(const Mat3& A, Mat3& X) {
              k2 = A.col(0).cross(A.col(1));
   const double det = A.col(0).dot(k0);
   const double frobenius2 = A.squaredNorm();
-  if (!(det * det > rotation_update_detail::kEpsilon * (frobenius2 * frobenius2 * frobenius2))) {
+  if (!(det * det > kEps * (frobenius2 * frobenius2 * frobenius2))) {
     return false;
   }
   const double inverse = 1.0 / det;

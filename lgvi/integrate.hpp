@@ -23,11 +23,16 @@ enum class IntegrationStatus {
   ObserverStopped,
   SolverFailed,
   CoordinateSingularity,
-  NonFiniteState  ///< a step produced a non-finite state (overflow); failure_detail names the part
+  NonFiniteState,  ///< a step produced a non-finite state (overflow); failure_detail names the part
+  StepFailed       ///< a one-step method's own solve failed (StepSummary::failure in failure_detail)
 };
 const char* to_string(IntegrationStatus s);
 
 /// Summary of an integration run (the project's common Stats, like Ceres' Solver::Summary).
+/// Every method returns this one type, the continuous-time baselines too (their statuses
+/// SolverFailed and CoordinateSingularity and their counts below), so that the recorder, the
+/// suites' summary columns and the CSV metadata read any run the same way; the core never sets
+/// the baselines' fields, and lgvi::lgvi depends on nothing of baselines/ for them.
 struct Stats {
   IntegrationStatus status = IntegrationStatus::Completed;
   std::size_t steps = 0;                  ///< steps completed
@@ -80,8 +85,9 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
   const auto start = Clock::now();
   Stats stats;
   stats.step_size = h;
-  RotationUpdateSummary initial;
-  initial.status = RotationUpdateStatus::Converged;
+  using Summary = decltype(lgvi.step(state, h, control(t0), control(t0), state));
+  Summary initial{};  // the summary of the initial state: converged, no iterations
+  if constexpr (std::same_as<Summary, RotationUpdateSummary>) initial.status = RotationUpdateStatus::Converged;
   if (!observer(std::size_t{0}, t0, std::as_const(state), initial)) {
     stats.status = IntegrationStatus::ObserverStopped;
   }
@@ -99,7 +105,7 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
     // Kept to restore on a non-finite result: the step writes `state` in place (a few dozen
     // doubles copied per step, small beside the rotation update's solve).
     const typename Integrator::State last_good = state;
-    RotationUpdateSummary s;
+    Summary s;
     typename Integrator::Control u_k1 = u_k;
     if constexpr (samples_control) {
       s = lgvi.step_at(state, t_k, h_k, control, state);
@@ -109,10 +115,15 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
     }
     stats.newton_iterations += static_cast<std::size_t>(s.iterations);
     if (!s.converged()) {
-      stats.status = IntegrationStatus::RotationUpdateFailed;
       stats.failed_step = k;
       stats.failed_time = t_k;
-      stats.failure = s;
+      if constexpr (std::same_as<decltype(s), RotationUpdateSummary>) {
+        stats.status = IntegrationStatus::RotationUpdateFailed;
+        stats.failure = s;
+      } else {
+        stats.status = IntegrationStatus::StepFailed;
+        stats.failure_detail = s.failure != nullptr ? s.failure : "the step's solve failed";
+      }
       break;
     }
     if (const char* part = non_finite_part(std::as_const(state))) [[unlikely]] {

@@ -51,6 +51,7 @@ const char* to_string(IntegrationStatus s) {
     case IntegrationStatus::SolverFailed: return "solver failed";
     case IntegrationStatus::CoordinateSingularity: return "coordinate singularity";
     case IntegrationStatus::NonFiniteState: return "non-finite state";
+    case IntegrationStatus::StepFailed: return "step failed";
   }
   return "unknown";
 }
@@ -66,8 +67,8 @@ std::string Stats::brief() const {
                     step_size);
       return buf + std::string(more);
     }
-  } else if (status == IntegrationStatus::NonFiniteState) {
-    std::snprintf(buf, sizeof buf, "non-finite state at step %zu (t = %.17g): ", failed_step, failed_time);
+  } else if (status == IntegrationStatus::NonFiniteState || status == IntegrationStatus::StepFailed) {
+    std::snprintf(buf, sizeof buf, "%s at step %zu (t = %.17g): ", to_string(status), failed_step, failed_time);
     return buf + failure_detail;
   } else if (status == IntegrationStatus::SolverFailed || status == IntegrationStatus::CoordinateSingularity) {
     std::snprintf(buf, sizeof buf, "%s at t = %.17g after %zu steps: ", to_string(status), failed_time,

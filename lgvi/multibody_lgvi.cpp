@@ -15,6 +15,7 @@
 // the cross term -mu/h a1 . a2 varies as delta a1 = R1_k hat(d1) eta_{1,k} (start) and
 // -R1_{k+1} hat(d1) eta_{1,k+1} (end).
 #include "lgvi/multibody_lgvi.hpp"
+#include "lgvi/multibody_step_equations.hpp"
 
 #include <Eigen/Cholesky>
 

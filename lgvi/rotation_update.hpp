@@ -144,7 +144,6 @@ Mat3 rotation_from(Parametrization p, const Vec3& f);
 
 namespace rotation_update_detail {
 
-constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 
 // Plain 3-vectors and 3x3 matrices (by columns) for the Newton iteration. GCC compiles Eigen's
 // 3-vector expressions into 2-wide packets mixed with scalars, stored and reloaded in halves;
@@ -182,7 +181,7 @@ inline bool solve_adjugate(const M3& A, const V3& b, V3& x) {
   const V3 k0 = cross(A.c1, A.c2), k1 = cross(A.c2, A.c0), k2 = cross(A.c0, A.c1);
   const double det = dot(A.c0, k0);
   const double frobenius2 = dot(A.c0, A.c0) + dot(A.c1, A.c1) + dot(A.c2, A.c2);
-  if (!(det * det > kEpsilon * (frobenius2 * frobenius2 * frobenius2))) return false;
+  if (!(det * det > kEps * (frobenius2 * frobenius2 * frobenius2))) return false;
   const double inverse = 1.0 / det;
   x = {dot(b, k0) * inverse, dot(b, k1) * inverse, dot(b, k2) * inverse};
   return true;
@@ -339,7 +338,7 @@ inline RotationUpdateSummary newton(const Inertia& I, double J_norm, const Rotat
       // Polish: one more Newton step when |G| is still above 4 eps |h p| (the floor for a
       // well-conditioned J); kept only if it lowers |G|. Ill-conditioned J and h p near a weak
       // axis leave |G| / |h p| at ~1e-14 after the test above; one step usually halves it.
-      const double polish_threshold = 4.0 * kEpsilon * rhs_norm * e.h_per_g;
+      const double polish_threshold = 4.0 * kEps * rhs_norm * e.h_per_g;
       s.residual = residual(e);
       if (o.polish && h2 > polish_threshold * polish_threshold &&
           s.iterations < o.max_iterations) {

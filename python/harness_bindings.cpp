@@ -26,16 +26,16 @@
 #include <variant>
 #include <vector>
 
-#include "experiments/atomic_file.hpp"
-#include "experiments/csv_writer.hpp"
-#include "experiments/method.hpp"
-#include "experiments/ocp_command.hpp"
-#include "experiments/ocp_scene.hpp"
-#include "experiments/plot.hpp"
-#include "experiments/scene.hpp"
-#include "experiments/simulate.hpp"
-#include "experiments/suite.hpp"
-#include "experiments/validate.hpp"
+#include "experiments/output/atomic_file.hpp"
+#include "experiments/output/csv_writer.hpp"
+#include "experiments/methods/method.hpp"
+#include "experiments/ocp/ocp_command.hpp"
+#include "experiments/scene/ocp_scene.hpp"
+#include "experiments/output/plot.hpp"
+#include "experiments/scene/scene.hpp"
+#include "experiments/methods/simulate.hpp"
+#include "experiments/suites/suite.hpp"
+#include "validation/validate.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -244,7 +244,7 @@ ex::SceneOverrides overrides_of(std::optional<double> h, std::optional<double> t
 
 fs::path scenes_dir_or_default(const std::optional<fs::path>& dir) { return dir ? *dir : ex::default_scenes_dir(); }
 
-/// A scene from arguments: the same table a scene file holds (experiments/scene.hpp), written as
+/// A scene from arguments: the same table a scene file holds (experiments/scene/scene.hpp), written as
 /// TOML and validated by the same parser, so its errors name the same fields.
 ex::Scene make_scene(const std::string& system, const py::dict& parameters, const py::dict& initial, double h,
                      double t_final, const std::string& form, std::int64_t output_every,
@@ -298,6 +298,7 @@ py::list method_list() {
     d["name"] = info.name;
     d["family"] = info.family == ex::MethodFamily::Lgvi           ? "lgvi"
                   : info.family == ex::MethodFamily::ComposedLgvi ? "composed-lgvi"
+                  : info.family == ex::MethodFamily::OneStep      ? "one-step"
                                                                   : "baseline";
     d["order"] = info.order;
     d["stages"] = info.stages;
@@ -308,6 +309,15 @@ py::list method_list() {
     d["models"] = models;
     d["takes_form"] = info.takes_form;
     d["legend"] = info.legend;
+    py::dict traits;
+    traits["symmetric"] = info.symmetric;
+    traits["variational"] = info.variational;
+    traits["stays_on_group"] = info.stays_on_group;
+    traits["preserves_momentum_map"] = info.preserves_momentum_map;
+    traits["adaptive"] = info.adaptive();
+    traits["must_complete_at_extremes"] = info.must_complete_at_extremes;
+    traits["systems"] = info.systems;
+    d["traits"] = traits;
     out.append(d);
   }
   return out;
@@ -497,7 +507,7 @@ void bind_harness(py::module_& m) {
   });
 
   py::class_<ex::Scene>(m, "Scene",
-                        "A validated scene: system, parameters, initial state, horizon (experiments/scene.hpp). "
+                        "A validated scene: system, parameters, initial state, horizon (experiments/scene/scene.hpp). "
                         "Made by load_scene, parse_scene or make_scene.")
       .def_readonly("name", &ex::Scene::name)
       .def_property_readonly("file", [](const ex::Scene& s) { return s.file; })
@@ -533,7 +543,7 @@ void bind_harness(py::module_& m) {
         },
         py::arg("toml"), py::arg("name") = "scene", py::arg("h") = py::none(), py::arg("t_final") = py::none(),
         py::arg("form") = py::none(), py::arg("output_every") = py::none(),
-        "A scene from TOML text in the scene file format (experiments/scene.hpp).");
+        "A scene from TOML text in the scene file format (experiments/scene/scene.hpp).");
   m.def("make_scene", &make_scene, py::arg("system"), py::arg("parameters"), py::arg("initial") = py::dict(),
         py::kw_only(), py::arg("h"), py::arg("t_final"), py::arg("form") = "symmetric", py::arg("output_every") = 1,
         py::arg("control") = py::none(), py::arg("name") = "scene", py::arg("description") = py::none(),

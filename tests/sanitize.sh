@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The sanitizer job of CI (README "Tests"; run by the test command after the ordinary tests):
+# The sanitizer job of CI (docs/testing.md; run by the test command after the ordinary tests):
 #  1. an AddressSanitizer + UndefinedBehaviorSanitizer build (clang, -O1, no recovery: the first
 #     report fails the job) of the core, the harness, the CLI and test_lgvi, in its own build
 #     directory (default build-asan), with Ninja; the three optimal control solver files at -O0

@@ -9,9 +9,12 @@
 #include <random>
 #include <string>
 
+#include "lgvi/types.hpp"
+
 namespace lgvi::test {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using lgvi::kEps;  // lgvi/types.hpp: the one machine epsilon
+
 
 /// Seed for every randomized test: LGVI_TEST_SEED overrides the default; the seed is printed
 /// so that a failure can be replayed.

@@ -12,7 +12,6 @@ namespace lgvi::baselines {
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 /// The rotation B with B m = |m| e3 of the header: rows (m2, -m1, 0)/rho, b3 x b1, m/|m|.
 /// Precondition: rho = |(m1, m2)| > 0.

@@ -13,7 +13,6 @@ namespace lgvi::baselines {
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 /// c0 + c1 v + c2 v^2 + c3 v^3.
 struct Cubic {

@@ -17,7 +17,7 @@ import lgvi
 
 # %% [markdown]
 # ## A scene of your own
-# The tables of a scene file (experiments/scene.hpp) as dicts: a heavy top, the paper's 3D
+# The tables of a scene file (experiments/scene/scene.hpp) as dicts: a heavy top, the paper's 3D
 # pendulum (centre of mass 0.3 m from the pivot along e3) spun fast about e3, tilted 0.1 rad.
 
 # %%

@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "experiments/csv_writer.hpp"
-#include "experiments/method.hpp"
-#include "experiments/recorder.hpp"
-#include "experiments/scene.hpp"
-#include "experiments/simulate.hpp"
+#include "experiments/output/csv_writer.hpp"
+#include "experiments/methods/method.hpp"
+#include "experiments/methods/recorder.hpp"
+#include "experiments/scene/scene.hpp"
+#include "experiments/methods/simulate.hpp"
 #include "lgvi/integrate.hpp"
 #include "lgvi/lgvi.hpp"
 #include "lgvi/so3.hpp"

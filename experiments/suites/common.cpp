@@ -5,9 +5,9 @@
 
 #include "baselines/model.hpp"
 #include "baselines/solver.hpp"
-#include "experiments/atomic_file.hpp"
-#include "experiments/plot.hpp"
-#include "experiments/system_bindings.hpp"
+#include "experiments/output/atomic_file.hpp"
+#include "experiments/output/plot.hpp"
+#include "experiments/systems/systems.hpp"
 
 namespace lgvi::experiments::suites {
 
@@ -21,8 +21,12 @@ std::string MethodSpec::label() const {
 std::string MethodSpec::id() const { return model ? method + "-" + *model : method; }
 
 std::vector<MethodSpec> lgvi_methods(bool quick) {
-  if (quick) return {{"lgvi"}, {"lgvi-yoshida4"}, {"lgvi-kahan-li6"}};
-  return {{"lgvi"}, {"lgvi-yoshida4"}, {"lgvi-suzuki4"}, {"lgvi-yoshida6"}, {"lgvi-kahan-li6"}};
+  std::vector<MethodSpec> m;
+  if (quick) m = {{"lgvi"}, {"lgvi-yoshida4"}, {"lgvi-kahan-li6"}};
+  for (const MethodInfo* info : methods_where([](const MethodInfo& i) { return i.on_group(); })) {
+    if (!quick || !info->variational) m.push_back({info->name});
+  }
+  return m;
 }
 
 std::vector<MethodSpec> adaptive_sweep_methods(bool quick) {
@@ -32,9 +36,8 @@ std::vector<MethodSpec> adaptive_sweep_methods(bool quick) {
             {"gsl-rk8pd", "quaternion", std::nullopt}};
   }
   std::vector<MethodSpec> m;
-  for (const MethodInfo& info : method_registry()) {
-    if (info.fixed_step()) continue;
-    for (const char* model : {"quaternion", "matrix"}) m.push_back({info.name, std::string(model), std::nullopt});
+  for (const MethodInfo* info : methods_where([](const MethodInfo& i) { return i.adaptive(); })) {
+    for (const char* model : {"quaternion", "matrix"}) m.push_back({info->name, std::string(model), std::nullopt});
   }
   return m;
 }
@@ -56,9 +59,9 @@ std::vector<MethodSpec> long_run_methods(bool quick) {
     }
     return m;
   }
-  for (const MethodInfo& info : method_registry()) {
-    for (const baselines::CoordinateModel model : info.models) {
-      m.push_back({info.name, std::string(baselines::to_string(model)), std::nullopt});
+  for (const MethodInfo* info : methods_where([](const MethodInfo& i) { return !i.on_group(); })) {
+    for (const baselines::CoordinateModel model : info->models) {
+      m.push_back({info->name, std::string(baselines::to_string(model)), std::nullopt});
     }
   }
   return m;

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "experiments/suite.hpp"
-#include "experiments/suite_jobs.hpp"
-#include "experiments/system_binding.hpp"
+#include "experiments/suites/suite.hpp"
+#include "experiments/suites/jobs.hpp"
+#include "experiments/systems/binding.hpp"
 
 namespace lgvi::experiments::suites {
 
@@ -25,7 +25,6 @@ struct MethodSpec {
   std::optional<double> rtol;         ///< adaptive baselines only (atol = rtol)
   const MethodInfo* info;             ///< the registered method
 
-  bool is_lgvi() const { return info->family != MethodFamily::Baseline; }
   bool fixed_step() const { return info->fixed_step(); }
   /// Legend text naming method and model: "LGVI order 4 (yoshida4)", "cvode-bdf, quaternion".
   std::string label() const;
@@ -34,17 +33,19 @@ struct MethodSpec {
   MethodOptions options() const { return {model, rtol, std::nullopt, std::nullopt}; }
 };
 
-/// LGVI order 2, 4 and 6 (quick: lgvi, lgvi-yoshida4, lgvi-kahan-li6; full adds suzuki4 and
-/// yoshida6).
+/// Every method on the group without a coordinate model, each once: the variational ones
+/// (the LGVIs of order 2, 4, 6) and the other one-step methods, in registration order. Quick:
+/// the deliberate pick lgvi, lgvi-yoshida4, lgvi-kahan-li6 (one per order) and the one-step
+/// methods that are not variational.
 std::vector<MethodSpec> lgvi_methods(bool quick);
 /// Adaptive solvers of the tolerance sweeps (work-precision, long-horizon). Quick: CVODE Adams and
 /// BDF, odeint Dormand-Prince and GSL rk8pd on quaternions, Dormand-Prince on matrices. Full:
-/// every adaptive solver on the quaternion and matrix models.
+/// every adaptive method (trait) on the quaternion and matrix models.
 std::vector<MethodSpec> adaptive_sweep_methods(bool quick);
 /// Methods of the long-horizon suites. Quick: the LGVIs of order 2, 4, 6, CVODE Adams and BDF,
 /// odeint RK4 and Dormand-Prince on the quaternion and matrix models, RK4 with renormalized
-/// quaternions, GSL rk8pd and rk4imp. Full: every LGVI and every solver on every model it
-/// accepts (Euler angles included).
+/// quaternions, GSL rk8pd and rk4imp (and lgvi_methods(true)). Full: every registered method,
+/// each on every coordinate model it accepts (Euler angles included).
 std::vector<MethodSpec> long_run_methods(bool quick);
 
 /// Summary columns of the integrator suites.

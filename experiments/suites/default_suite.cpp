@@ -1,9 +1,9 @@
 // "default": every scene of the scenes directory with the symmetric and the printed LGVI, at
 // the scene's own step and horizon; per scene, figures of the energy, orthogonality and
 // momentum errors of both forms.
-#include "experiments/atomic_file.hpp"
-#include "experiments/plot.hpp"
-#include "experiments/scene.hpp"
+#include "experiments/output/atomic_file.hpp"
+#include "experiments/output/plot.hpp"
+#include "experiments/scene/scene.hpp"
 #include "experiments/suites/common.hpp"
 
 namespace lgvi::experiments::suites {

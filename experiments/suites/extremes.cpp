@@ -7,7 +7,7 @@
 #include <map>
 
 #include "baselines/solver.hpp"
-#include "experiments/scene.hpp"
+#include "experiments/scene/scene.hpp"
 #include "experiments/suites/common.hpp"
 
 namespace lgvi::experiments::suites {
@@ -42,7 +42,10 @@ std::string tag(double x) {
   return buf;
 }
 
-Expectation lgvi_must_complete(const MethodSpec& m) { return m.is_lgvi() ? Expectation::Complete : Expectation::Either; }
+/// Complete for a method expected to complete every case (its trait), else either outcome.
+Expectation expected_outcome(const MethodSpec& m) {
+  return m.info->must_complete_at_extremes ? Expectation::Complete : Expectation::Either;
+}
 
 }  // namespace
 
@@ -87,7 +90,7 @@ Suite extremes_suite(const SuiteParams& params) {
     spec.overrides.t_final = quick ? 1.0 : 20.0;
     spec.overrides.output_every = quick ? 2 : 40;
     spec.edit = set_omega(100.0 * omega0.normalized(), "Omega0 norm 100 rad/s");
-    for (const MethodSpec& m : long_run_methods(quick)) add("fast-spin", "w100", spec, m, lgvi_must_complete(m));
+    for (const MethodSpec& m : long_run_methods(quick)) add("fast-spin", "w100", spec, m, expected_outcome(m));
   }
   // Inertia: near-symmetric (J1 ~ J2 ~ J3) and near-flat (J3 = (J1 + J2)(1 - eps): the third
   // eigenvalue of J_d = tr(J)/2 I - J is (J1 + J2 - J3)/2 -> 0).
@@ -147,7 +150,14 @@ Suite extremes_suite(const SuiteParams& params) {
     add("gimbal-lock", "pitch", spec, {"lgvi"}, Expectation::Complete);
     add("gimbal-lock", "pitch", spec, {"odeint-rk4", "quaternion", std::nullopt}, Expectation::Complete);
     std::vector<std::string> solvers = {"cvode-bdf", "odeint-rk4", "odeint-dopri5", "gsl-rk8pd"};
-    if (!quick) solvers = baselines::solver_names();
+    if (!quick) {
+      solvers.clear();  // every method that takes Euler angles
+      for (const MethodInfo* info : methods_where([](const MethodInfo& i) {
+             return std::ranges::find(i.models, baselines::CoordinateModel::Euler) != i.models.end();
+           })) {
+        solvers.push_back(info->name);
+      }
+    }
     for (const std::string& solver : solvers) add("gimbal-lock", "pitch", spec, {solver, "euler", std::nullopt}, Expectation::Fail);
   }
 

@@ -10,7 +10,7 @@
 // completed step.
 #include <map>
 
-#include "experiments/study.hpp"
+#include "experiments/suites/study.hpp"
 #include "experiments/suites/common.hpp"
 
 namespace lgvi::experiments::suites {

@@ -2,7 +2,7 @@
 // scene's own step h for a fixed number of steps (the horizon follows: t_final = steps h) with
 // every method of the roster, and draws, per scene, the error against time on log-log axes:
 // the LGVI's bounded oscillation against the baselines' drift.
-#include "experiments/scene.hpp"
+#include "experiments/scene/scene.hpp"
 #include "experiments/suites/common.hpp"
 
 namespace lgvi::experiments::suites {
@@ -102,17 +102,14 @@ Suite momentum_suite(const SuiteParams& params) {
   Suite s;
   s.name = "momentum";
   s.description =
-      "momentum maps against time: pendulum vertical, free body spatial, connected bodies total (LGVIs only)";
+      "momentum maps against time: pendulum vertical, free body spatial, connected bodies total";
   s.columns = simulation_columns();
   s.columns.push_back("grid_steps");
   s.columns.push_back("momentum_map");
   const std::size_t steps = params.quick ? 50'000 : 1'000'000;
   const std::vector<MethodSpec> methods = long_run_methods(params.quick);
-  // The baselines have no model of the connected bodies (baselines/): the LGVIs only there.
   add_long_runs(s, params,
-                {{"pendulum", steps, methods},
-                 {"free-body", steps, methods},
-                 {"connected-bodies", steps, lgvi_methods(params.quick)}});
+                {{"pendulum", steps, methods}, {"free-body", steps, methods}, {"connected-bodies", steps, methods}});
   s.render = [](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
     std::vector<fs::path> files;
     for (const auto& [scene, group] : by_group(rows)) {

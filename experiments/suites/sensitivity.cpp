@@ -51,9 +51,9 @@
 #include "baselines/model.hpp"
 #include "baselines/sensitivity.hpp"
 #include "baselines/solver.hpp"
-#include "experiments/csv_writer.hpp"
-#include "experiments/scene.hpp"
-#include "experiments/simulate.hpp"
+#include "experiments/output/csv_writer.hpp"
+#include "experiments/scene/scene.hpp"
+#include "experiments/methods/simulate.hpp"
 #include "experiments/suites/common.hpp"
 #include "lgvi/lgvi.hpp"
 #include "lgvi/ocp/linearization.hpp"
@@ -72,7 +72,6 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kEps = 2.220446049250313e-16;
 /// cbrt(eps): the balanced central-difference step.
 const double kFdStep = std::cbrt(kEps);
 /// Factor over the differences' own error estimate (header comment).

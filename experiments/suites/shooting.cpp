@@ -34,11 +34,11 @@
 #include <limits>
 
 #include "baselines/pontryagin.hpp"
-#include "experiments/csv_writer.hpp"
-#include "experiments/ocp_scene.hpp"
-#include "experiments/simulate.hpp"
+#include "experiments/output/csv_writer.hpp"
+#include "experiments/scene/ocp_scene.hpp"
+#include "experiments/methods/simulate.hpp"
 #include "experiments/suites/common.hpp"
-#include "experiments/system_bindings.hpp"
+#include "experiments/systems/systems.hpp"
 #include "experiments/systems/ocp.hpp"
 #include "lgvi/ocp/direct.hpp"
 #include "lgvi/ocp/indirect.hpp"

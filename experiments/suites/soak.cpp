@@ -15,10 +15,10 @@
 #include <memory>
 #include <mutex>
 
-#include "experiments/process_memory.hpp"
-#include "experiments/scene.hpp"
+#include "experiments/suites/process_memory.hpp"
+#include "experiments/scene/scene.hpp"
 #include "experiments/suites/common.hpp"
-#include "experiments/system_bindings.hpp"
+#include "experiments/systems/systems.hpp"
 
 namespace lgvi::experiments::suites {
 

@@ -3,12 +3,12 @@
 // per scene, fixed-step methods sweep the number of steps over the horizon and adaptive ones the
 // tolerance rtol (atol = rtol); each case's final state is compared with the scene's exact
 // solution where it has one (the free body, in closed form after Celledoni et al. 2008; the
-// Lagrange top; experiments/exact_reference.hpp), else with one very fine reference run of the
+// Lagrange top; experiments/systems/exact_reference.hpp), else with one very fine reference run of the
 // scene (named in every case's CSV metadata and summary row). This file draws the figures: final-
 // state error and maximum energy error against integrator wall time and against evaluations,
 // log-log, one curve per method and model; and the table of the cheapest method for each accuracy
 // level.
-#include "experiments/study.hpp"
+#include "experiments/suites/study.hpp"
 #include "experiments/suites/common.hpp"
 
 namespace lgvi::experiments::suites {

@@ -6,13 +6,28 @@
 #include <functional>
 
 #include "baselines/mechanics.hpp"
-#include "experiments/system_binding.hpp"
+#include "experiments/systems/binding.hpp"
 #include "lgvi/multibody_lgvi.hpp"
 
 namespace lgvi::experiments {
 
-template <>
-struct SystemBinding<CartPendulumModel> {
+struct CartPendulumInitial {
+  Mat3 R = Mat3::Identity();
+  Vec3 Omega = Vec3::Zero();
+  Vec2 q = Vec2::Zero();      ///< cart position (x, y)
+  Vec2 q_dot = Vec2::Zero();  ///< cart velocity
+};
+
+struct CartPendulumModel {
+  using State = CartPendulumInitial;
+  static constexpr const char* name = "cart-pendulum";
+  CartPendulum system;
+  State initial;
+  std::optional<TimeControl> control;  ///< cart forces (u_x, u_y) in components 1, 2; component 3 is 0
+};
+
+template <std::same_as<CartPendulumModel> BoundModel>
+struct SystemBinding<BoundModel> {
   using M = CartPendulumModel;
   using State = M::State;
   static constexpr bool single_body = false;

@@ -7,13 +7,26 @@
 #include <functional>
 
 #include "baselines/mechanics.hpp"
-#include "experiments/system_binding.hpp"
+#include "experiments/systems/binding.hpp"
 #include "lgvi/multibody_lgvi.hpp"
 
 namespace lgvi::experiments {
 
-template <>
-struct SystemBinding<ConnectedBodiesModel> {
+struct ConnectedBodiesInitial {
+  Mat3 R1 = Mat3::Identity(), R2 = Mat3::Identity();
+  Vec3 Omega1 = Vec3::Zero(), Omega2 = Vec3::Zero();
+};
+
+struct ConnectedBodiesModel {
+  using State = ConnectedBodiesInitial;
+  static constexpr const char* name = "connected-bodies";
+  ConnectedBodies system;
+  State initial;
+  std::optional<TimeControl> control;  ///< internal moment u (inertial frame): +u on body 1, -u on body 2
+};
+
+template <std::same_as<ConnectedBodiesModel> BoundModel>
+struct SystemBinding<BoundModel> {
   using M = ConnectedBodiesModel;
   using State = M::State;
   static constexpr bool single_body = false;

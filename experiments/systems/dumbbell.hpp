@@ -5,13 +5,29 @@
 #include <functional>
 
 #include "baselines/mechanics.hpp"
-#include "experiments/system_binding.hpp"
+#include "experiments/systems/binding.hpp"
 #include "lgvi/lgvi.hpp"
 
 namespace lgvi::experiments {
 
-template <>
-struct SystemBinding<DumbbellModel> {
+struct RigidBodyInitial {
+  Mat3 R = Mat3::Identity();
+  Vec3 Omega = Vec3::Zero();
+  Vec3 x = Vec3::Zero();
+  Vec3 v = Vec3::Zero();
+};
+
+struct DumbbellModel {
+  using State = RigidBodyInitial;
+  static constexpr const char* name = "dumbbell";
+  DumbbellSpacecraft system;
+  State initial;
+  std::optional<TimeControl> force_control;   ///< u^f, inertial frame
+  std::optional<TimeControl> moment_control;  ///< u^m, body frame
+};
+
+template <std::same_as<DumbbellModel> BoundModel>
+struct SystemBinding<BoundModel> {
   using M = DumbbellModel;
   using State = M::State;
   static constexpr bool single_body = true;

@@ -4,85 +4,29 @@
 #include <functional>
 #include <utility>
 
-#include "experiments/exact_reference.hpp"
+#include "experiments/systems/exact_reference.hpp"
 #include "experiments/systems/attitude.hpp"
+#include "lgvi/gravity_gradient_lgvi.hpp"
+#include "lgvi/systems/gravity_gradient.hpp"
 
 namespace lgvi::experiments {
 
-/// The control of a flow whose potential depends on time: the control moment u(t) and t itself,
-/// so that a step knows the times of its ends (integrate() and the compositions sample controls
-/// at the ends of each step and substep).
-struct TimedMoment {
-  Vec3 u = Vec3::Zero();
-  double t = 0.0;
+// The free body's scene model (a scene holds only the state and controls its system uses).
+struct FreeBodyModel {
+  using State = AttitudeInitial;
+  static constexpr const char* name = "free-body";
+  FreeRigidBody system;
+  State initial;
+  // (Defaults written out: the binding fills system and initial only.)
+  std::optional<TimeControl> control = std::nullopt;  ///< body-frame moment
+  std::optional<AttitudeFeedback> feedback = std::nullopt;  ///< body-frame moment tau(R, Omega) (instead of control)
+  /// [parameters] orbit_rate: on a circular orbit, under the gravity-gradient moment
+  /// (lgvi/systems/gravity_gradient.hpp).
+  std::optional<GravityGradient> gravity_gradient = std::nullopt;
 };
 
-/// The free body's LGVI on a circular orbit. The gravity-gradient potential V(R, t)
-/// (lgvi/systems/gravity_gradient.hpp) enters as a potential does in eqs. 13-14, through its
-/// moment with the form's impulse weights: c0 M(R_k, t_k) and c1 M(R_{k+1}, t_{k+1}) (symmetric:
-/// h/2, h/2, the discrete Lagrangian's trapezoidal V(R_k, t_k) + V(R_{k+1}, t_{k+1}); printed:
-/// 0, h). The state keeps M(R_k, t_k) in AttitudeState::M, from which the base step takes its start
-/// impulse; the end impulse depends on R_{k+1} alone (not on Pi_{k+1}), so it is added after the
-/// rotation update, explicitly: one gravity-gradient evaluation per step. In the frame turning
-/// with the orbit the discrete Lagrangian does not depend on k (R_k^T R_{k+1} = Q_k^T exp(n h
-/// hat(e3)) Q_{k+1}), so the map is a variational integrator of an autonomous system there: its
-/// Jacobi integral stays bounded (tests/experiments/gravity_gradient_test.cpp).
-class GravityGradientLgvi {
- public:
-  using State = AttitudeState;
-  using Control = TimedMoment;
-  static constexpr int potential_evaluations_per_step = 1;
-
-  GravityGradientLgvi(const AttitudeLgvi<FreeRigidBody>& lgvi, const GravityGradient& gravity)
-      : lgvi_(lgvi), gravity_(gravity) {}
-
-  /// The state at (R, Omega) at time t, with the gravity-gradient moment there.
-  State make_state(const Mat3& R, const Vec3& Omega, double t) const {
-    State s = lgvi_.make_state(R, Omega);
-    s.M = gravity_.moment(lgvi_.system().inertia.J, R, t);
-    return s;
-  }
-
-  /// One step from t_k = u_k.t to t_{k+1} = u_k1.t; `in.M` must be the moment at (in.R, t_k).
-  RotationUpdateSummary step(const State& in, double h, const Control& u_k, const Control& u_k1, State& out) const {
-    const RotationUpdateSummary summary = lgvi_.step(in, h, u_k.u, u_k1.u, out);
-    if (!summary.converged()) return summary;
-    out.M = gravity_.moment(lgvi_.system().inertia.J, out.R, u_k1.t);
-    out.Pi += impulse_weights(lgvi_.form(), h).end * out.M;
-    return summary;
-  }
-
-  LgviForm form() const { return lgvi_.form(); }
-  const FreeRigidBody& system() const { return lgvi_.system(); }
-  Vec3 omega(const State& s) const { return lgvi_.omega(s); }
-
- private:
-  const AttitudeLgvi<FreeRigidBody>& lgvi_;
-  GravityGradient gravity_;
-};
-
-/// The baselines' side: Euler's equation with the gravity-gradient moment added,
-/// Omega' = J^{-1} (J Omega x Omega + u(t) + 3 n^2 c x J c), c = R^T r_hat(t). The velocity
-/// Jacobian is the free body's (the moment does not depend on Omega); the attitude part comes
-/// from CoordinateOde's differences of the acceleration.
-class GravityGradientMechanics : public baselines::AttitudeMechanics<FreeRigidBody> {
- public:
-  GravityGradientMechanics(const FreeRigidBody& body, std::function<Vec3(double)> control,
-                           const GravityGradient& gravity)
-      : AttitudeMechanics(body, std::move(control)), gravity_(gravity) {}
-
-  Velocity acceleration(double t, const Config& c, const Velocity& w) const {
-    const Inertia& inertia = system().inertia;
-    return AttitudeMechanics::acceleration(t, c, w) + inertia.J_inverse * gravity_.moment(inertia.J, c.R[0], t);
-  }
-  bool time_dependent() const { return true; }
-
- private:
-  GravityGradient gravity_;
-};
-
-template <>
-struct SystemBinding<FreeBodyModel> : AttitudeBinding<FreeBodyModel> {
+template <std::same_as<FreeBodyModel> BoundModel>
+struct SystemBinding<BoundModel> : AttitudeBinding<FreeBodyModel> {
   static constexpr std::array<std::string_view, 2> kParameterKeys = {"inertia", "orbit_rate"};
   /// No potential: the printed form is the symmetric one unless a control or the gravity
   /// gradient acts.
@@ -131,7 +75,12 @@ struct SystemBinding<FreeBodyModel> : AttitudeBinding<FreeBodyModel> {
     if (!m.gravity_gradient) return AttitudeBinding::run_baseline(m, std::forward<Chart>(chart));
     std::function<Vec3(double)> control;
     if (m.control) control = [&m](double t) -> Vec3 { return (*m.control)(t); };
-    const GravityGradientMechanics mech(m.system, std::move(control), *m.gravity_gradient);
+    const baselines::AttitudeMechanicsWithMoment<FreeRigidBody> mech(
+        m.system, std::move(control),
+        [&m](double t, const Mat3& R, const Vec3& /*Omega*/) {
+          return m.gravity_gradient->moment(m.system.inertia.J, R, t);
+        },
+        {.time = true, .rate = false});
     return chart(mech, std::array<Mat3, 1>{m.initial.R}, std::array<Vec3, 1>{m.initial.Omega},
                  baselines::Vector<0>(), baselines::Vector<0>());
   }

@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "baselines/pontryagin.hpp"
-#include "experiments/fields.hpp"
-#include "experiments/scene.hpp"
+#include "experiments/output/fields.hpp"
+#include "experiments/systems/systems.hpp"
 #include "lgvi/ocp/direct.hpp"
 #include "lgvi/ocp/indirect.hpp"
 #include "lgvi/ocp/models.hpp"

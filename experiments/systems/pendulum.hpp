@@ -1,13 +1,25 @@
 // The 3D pendulum in the harness (scene system "pendulum").
 #pragma once
 
-#include "experiments/exact_reference.hpp"
+#include "experiments/systems/exact_reference.hpp"
 #include "experiments/systems/attitude.hpp"
 
 namespace lgvi::experiments {
 
-template <>
-struct SystemBinding<PendulumModel> : AttitudeBinding<PendulumModel> {
+struct PendulumModel {
+  using State = AttitudeInitial;
+  static constexpr const char* name = "pendulum";
+  Pendulum3D system;
+  State initial;
+  std::optional<TimeControl> control = std::nullopt;  ///< u of eq. 23; the applied moment is R^T e3 x u
+  /// Instead of control: u = tau x R^T e3 with tau the feedback's moment, so that the applied
+  /// moment R^T e3 x u is tau's part normal to the vertical (eq. 23's u cannot turn the pendulum
+  /// about the vertical).
+  std::optional<AttitudeFeedback> feedback = std::nullopt;
+};
+
+template <std::same_as<PendulumModel> BoundModel>
+struct SystemBinding<BoundModel> : AttitudeBinding<PendulumModel> {
   static constexpr std::array<std::string_view, 4> kParameterKeys = {"mass", "inertia", "rho", "gravity"};
   /// The gravity moment acts at the printed step's end (eq. 22's impulse): first order.
   static int printed_order(const PendulumModel&) { return 1; }
@@ -20,6 +32,11 @@ struct SystemBinding<PendulumModel> : AttitudeBinding<PendulumModel> {
   }
   static Conserved conserved(const PendulumModel& m, const State& s, double /*t*/) {
     return {m.system.energy(s.R, s.Omega), Vec3(m.system.vertical_momentum(s.R, s.Omega), 0.0, 0.0), 1};
+  }
+  /// The control u for the feedback moment tau(R, Omega): tau x R^T e3, whose moment R^T e3 x u
+  /// is tau's part normal to the vertical (eq. 23's u cannot turn the pendulum about it).
+  static Vec3 feedback_control(const PendulumModel& m, const Mat3& R, const Vec3& Omega) {
+    return m.feedback->moment(R, Omega).cross(R.row(2).transpose());
   }
   static MomentumMap momentum_map() { return {"vertical angular momentum e3^T R J Omega", {"vertical_momentum"}}; }
   static SystemLabels labels() {

@@ -30,7 +30,7 @@ TransferProblem TransferProblem::dumbbell_paper() {
   TransferProblem p;
   const double s2 = std::sqrt(2.0);
   const double s3 = std::sqrt(3.0);
-  const double speed = 0.9835;  // printed (the dumbbell's circular speed, README "Parameters")
+  const double speed = 0.9835;  // printed (the dumbbell's circular speed, docs/lgvi.md "Parameters the paper leaves out")
   p.x0 = Vec3(1.0, 0.0, 0.0);
   p.v0 = Vec3(0.0, speed, 0.0);
   p.R0 << 0.0, -1.0, 0.0,  //

@@ -28,7 +28,6 @@
 
 namespace lgvi {
 
-using Vec2 = Eigen::Matrix<double, 2, 1>;
 using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Mat5 = Eigen::Matrix<double, 5, 5>;
 

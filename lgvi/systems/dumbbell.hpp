@@ -10,7 +10,7 @@
 // orbit radius, time such that mu = 1, i.e. the reference circular orbit of a point mass has
 // speed 1 and period 2 pi (the paper's initial speed 0.9835 and quarter-orbit horizon fit this).
 //
-// Parameters the paper omits (justification, README "Parameters"):
+// Parameters the paper omits (justification, docs/lgvi.md "Parameters the paper leaves out"):
 //  - rho = (0.15, 0, 0), spheres along body e1, which R_0 points along-track. Then the circular
 //    speed of the mass centre at radius 1 is (1 + l^2)^(-3/4) = 0.98345 for l = 0.15, the
 //    paper's 0.9835 (the orbit normal e3 gives the same speed; along-track was chosen because

@@ -10,7 +10,7 @@
 
 #include "baselines/coordinates.hpp"
 #include "baselines/solver.hpp"
-#include "experiments/cli_support.hpp"
+#include "experiments/cli/cli_support.hpp"
 #include "multibody_cases.hpp"
 
 namespace lgvi::test {

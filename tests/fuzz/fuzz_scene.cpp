@@ -1,4 +1,4 @@
-// libFuzzer target of the scene parser (experiments/scene.cpp): every input either loads or
+// libFuzzer target of the scene parser (experiments/scene/scene.cpp): every input either loads or
 // fails with one SceneError line naming the file, the field and the reason; anything else
 // (another exception, a crash, a sanitizer report, a loaded scene with a non-finite value) is a
 // finding. Built with LGVI_BUILD_FUZZERS=ON by clang (tests/sanitize.sh runs it).
@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "experiments/scene.hpp"
+#include "experiments/scene/scene.hpp"
 
 namespace {
 

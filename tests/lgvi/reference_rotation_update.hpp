@@ -28,7 +28,6 @@ namespace lgvi::reference {
 
 // --- lgvi/rotation_update.cpp ---------------------------------------------------------------
 
-constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 
 // Residual G(f) and Newton Jacobian for each parametrization. For Cayley the Newton map uses
 // the polynomial H = (1 + |f|^2)/2 G (same roots, Jacobian J + hat(f) J - hat(J f) - h p f^T).
@@ -102,7 +101,7 @@ inline RotationUpdateSummary newton(const Inertia& I, const RotationUpdateOption
       // Polish: one more Newton step when |G| is still above 4 eps |h p| (the floor for a
       // well-conditioned J); kept only if it lowers |G|. Ill-conditioned J and h p near a weak
       // axis leave |G| / |h p| at ~1e-14 after the test above; one step usually halves it.
-      if (g > 4.0 * kEpsilon * s.rhs_norm && s.iterations < o.max_iterations) {
+      if (g > 4.0 * kEps * s.rhs_norm && s.iterations < o.max_iterations) {
         const Vec3 polished = f - Eigen::PartialPivLU<Mat3>(dH).solve(H);
         Vec3 G2, H2;
         Mat3 dH2;

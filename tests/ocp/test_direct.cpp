@@ -11,6 +11,7 @@
 
 #include <Eigen/SVD>
 
+#include "lgvi/multibody_step_equations.hpp"
 #include "lgvi/ocp/direct.hpp"
 #include "lgvi/ocp/newton_armijo.hpp"
 #include "lgvi/ocp/spline.hpp"

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "experiments/cli_support.hpp"
+#include "experiments/cli/cli_support.hpp"
 #include "test_support.hpp"
 
 namespace lgvi::test {

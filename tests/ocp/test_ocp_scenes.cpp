@@ -1,4 +1,4 @@
-// Optimal control problems from scene files ([ocp] tables, experiments/ocp_scene.hpp): the
+// Optimal control problems from scene files ([ocp] tables, experiments/scene/ocp_scene.hpp): the
 // shipped examples hold the paper's problems, a user's free-body slew with its own W converges,
 // and every [ocp] field's bad input is one SceneError naming the file, the field and the reason.
 #include <gtest/gtest.h>
@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "experiments/cli_support.hpp"
-#include "experiments/ocp_scene.hpp"
-#include "experiments/scene.hpp"
+#include "experiments/cli/cli_support.hpp"
+#include "experiments/scene/ocp_scene.hpp"
+#include "experiments/scene/scene.hpp"
 #include "lgvi/ocp/direct.hpp"
 #include "lgvi/ocp/indirect.hpp"
 #include "test_support.hpp"

@@ -121,12 +121,12 @@ TEST(Shooting, DumbbellConverges) {
   print("dumbbell, printed, 100 steps", S);
   ASSERT_TRUE(S.converged()) << S.brief();
   EXPECT_LE(S.violation, kOcpViolation);
-  // Not the paper's 13.03: the README explains the difference (the cost is the orbit transfer's
+  // Not the paper's 13.03: docs/paper-examples.md explains the difference (the cost is the orbit transfer's
   // force, ~1.37, for every plausible dumbbell inertia). Regression value of this extremal.
   EXPECT_NEAR(S.cost, 1.3933, 1e-3);
   // The dumbbell's sensitivity is ill-conditioned (rod-axis inertia 0.001): the final steps still
   // contract quadratically but with a larger constant (measured 0.3 and 170) down to the round-off
-  // floor (~1e-12, README), where a few more iterations hunt for a representable lambda_0 with a
+  // floor (~1e-12, lgvi/ocp/README.md), where a few more iterations hunt for a representable lambda_0 with a
   // violation below the tolerance: 1e-2 -> 1e-10 in 3 iterations.
   EXPECT_GE(check_quadratic(S, 1e3, 1e-12), 2);
   EXPECT_LE(iterations_from_1e2(S, 1e-10), 3);
@@ -159,9 +159,9 @@ TEST(Shooting, DumbbellConvergesByLevenbergMarquardt) {
 // printed steps, uncontrolled guess): converged within 40 outer iterations (Jacobians) and on
 // Newton-Armijo's extremal (it follows the path Newton-Armijo's damped steps approximate). Same
 // extremal: the initial multipliers agree to 1e-4 relative. Derivation: both violations are
-// <= 1e-12 and |J^{-1}| <= cond / |J| with cond ~ 1e7 (README), so each lambda_0 is within
+// <= 1e-12 and |J^{-1}| <= cond / |J| with cond ~ 1e7 (lgvi/ocp/README.md), so each lambda_0 is within
 // ~1e7 * 1e-12 / |J| of the exact root, |J| ~ 1e6 (|dr/dlambda_R1| = 1.7e6): 1e-11 absolute,
-// far below 1e-4 |lambda_0|; the nearest other extremals (README: 1.39028, 1.39033, 1.42738)
+// far below 1e-4 |lambda_0|; the nearest other extremals (lgvi/ocp/README.md: 1.39028, 1.39033, 1.42738)
 // differ in lambda_0 by O(1) relative. The cost is compared at 1e-8 relative by the same bound.
 TEST(Shooting, DumbbellContinuationReachesNewtonArmijosExtremalWithin40Iterations) {
   const DumbbellSpacecraft dumbbell = DumbbellSpacecraft::paper();

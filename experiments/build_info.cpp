@@ -1,8 +1,0 @@
-#include "experiments/simulate.hpp"
-
-namespace lgvi::experiments {
-
-const char* git_describe() { return LGVI_GIT_DESCRIBE; }
-const char* version() { return LGVI_VERSION; }
-
-}  // namespace lgvi::experiments

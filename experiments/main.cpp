@@ -1,3 +1,0 @@
-#include "experiments/cli.hpp"
-
-int main(int argc, char** argv) { return lgvi::experiments::run_cli(argc, argv); }

@@ -1,0 +1,95 @@
+// The observer side of a run: turns samples of a trajectory (in the paper's variables, whatever
+// the method's internal state) into CSV rows and running diagnostics. Physics (energy, momentum
+// maps) comes from the systems in lgvi/systems; nothing is re-derived here.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+#include "experiments/output/csv_writer.hpp"
+#include "experiments/scene/scene.hpp"
+#include "lgvi/integrate.hpp"
+#include "lgvi/types.hpp"
+
+namespace lgvi::experiments {
+
+/// Worst deviations over the recorded samples. The methods hand the recorder only the steps whose
+/// rows are written (k = 0, output_every, 2 output_every, ..., and the last step), so these are
+/// maxima over the CSV's rows: a coarse output_every can miss a peak between rows.
+struct Diagnostics {
+  double energy0 = 0.0;
+  double max_abs_energy_error = 0.0;     ///< max |E - E0|
+  double max_orthogonality_error = 0.0;  ///< max ||R^T R - I||_F
+  double max_determinant_error = 0.0;    ///< max |det R - 1|
+  double momentum0_norm = 0.0;           ///< |momentum map at t = 0|
+  double max_momentum_error = 0.0;       ///< max |m - m0| (Euclidean norm)
+  bool quaternion_norm_recorded = false;    ///< a quaternion baseline: the next field is meaningful
+  double max_quaternion_norm_error = 0.0;   ///< max | |q| - 1 |
+
+  /// Energy error normalized by |E0|, or absolute when E0 = 0 exactly.
+  bool energy_error_is_relative() const { return energy0 != 0.0; }
+  double max_energy_error() const;
+};
+
+class Recorder {
+ public:
+  /// `csv` may be null (diagnostics only). Rows are written for k % output_every == 0 and for
+  /// the last recorded sample (see finish()); the methods call record() for those steps only.
+  /// quaternion_column adds the column quaternion_norm_error (after determinant_error), for
+  /// the quaternion baselines.
+  Recorder(const Model& model, std::size_t output_every, CsvWriter* csv, bool quaternion_column = false);
+
+  /// The CSV columns for a model: t, R11..R33, Omega1..3, [x1..3, v1..3], energy,
+  /// energy_error, orthogonality_error, determinant_error, <momentum columns>,
+  /// momentum_error, newton_iterations.
+  static std::vector<std::string> columns(const Model& model, bool quaternion_column = false);
+
+  /// Records the sample of step k: k = 0, output_every, 2 output_every, ... and the last step
+  /// (every method passes only those; a k that is not a multiple of output_every is held until
+  /// finish(), so it must be the last). False when a value of the row (a state entry, the
+  /// energy, the momentum map, an error) is not finite: nothing of the sample is kept or
+  /// written, and the method stops the run (its observer returns false, then
+  /// stop_on_non_finite names the step, time and quantity).
+  bool record(std::size_t k, const Sample& sample);
+  /// When record() refused a sample: `stats` becomes NonFiniteState at that sample's step and
+  /// time, failure_detail naming the column ("energy is not finite ..."). Otherwise unchanged.
+  void stop_on_non_finite(Stats& stats) const;
+  /// Writes the last recorded sample if its k was not a multiple of output_every, so a CSV
+  /// always ends at the last step computed (t_final, or the last good step of a failed run).
+  void finish();
+
+  const Diagnostics& diagnostics() const { return diagnostics_; }
+  std::size_t samples() const { return samples_; }
+  /// The last recorded sample (the final state of the run, or its last good step).
+  const Sample& last() const { return last_; }
+  /// Time spent in record() (diagnostics and CSV formatting), to separate it from the
+  /// integrator's own cost (two clock reads per recorded sample, i.e. per row).
+  double seconds() const { return seconds_; }
+
+ private:
+  static constexpr std::size_t kMaxColumns = 40;
+  const Model& model_;
+  std::size_t output_every_;
+  CsvWriter* csv_;
+  std::size_t columns_;
+  Diagnostics diagnostics_;
+  Vec3 momentum0_ = Vec3::Zero();
+  std::vector<std::string> column_names_;
+  std::size_t state_columns_ = 0;  ///< t and the state's columns, the first of the row
+  std::array<double, kMaxColumns> row_{};
+  /// The sample record() refused (a non-finite value): its step, time and column.
+  std::size_t non_finite_step_ = 0;
+  double non_finite_time_ = 0.0;
+  const std::string* non_finite_column_ = nullptr;
+  bool row_pending_ = false;
+  std::size_t samples_ = 0;
+  Sample last_;
+  bool quaternion_column_ = false;
+  double seconds_ = 0.0;
+};
+
+}  // namespace lgvi::experiments

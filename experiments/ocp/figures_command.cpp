@@ -1,0 +1,149 @@
+#include "experiments/ocp/figures_command.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+
+#include <nlohmann/json.hpp>
+
+#include "experiments/output/atomic_file.hpp"
+#include "experiments/ocp/ocp_command.hpp"
+#include "experiments/scene/ocp_scene.hpp"
+#include "experiments/input/paper_values.hpp"
+#include "experiments/output/plot.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// "Fig. N: " and the scene's description (the ocp scenes describe their problem and method).
+std::string figure_title(const Scene& scene, int number) {
+  // Appends only: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
+  std::string n = "Fig. ";
+  n.append(std::to_string(number)).append(": ");
+  return n + scene.description;
+}
+
+std::string number_text(double x, int digits) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+  return buf;
+}
+
+/// Second title line: the run's cost and terminal violation beside the paper's
+/// (validation/paper_values.toml), read from the ocp summary JSON (an object, or an array of
+/// one). Without a readable summary, the paper's values alone.
+std::string figure_values(const Scene& scene, const fs::path& summary_file) {
+  const PaperExample* example = paper_values().find(scene.ocp->paper);
+  if (example == nullptr) throw InvalidInput(scene.file.string(), "ocp.paper: names no example of the paper");
+  const PaperExample& paper = *example;
+  std::string run_cost = "-";
+  std::string run_violation = "-";
+  std::ifstream in(summary_file);
+  if (in) {
+    const nlohmann::json parsed = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    const nlohmann::json& j = parsed.is_array() && !parsed.empty() ? parsed.front() : parsed;
+    if (j.is_object()) {
+      if (j.contains("cost") && j["cost"].is_number()) run_cost = number_text(j["cost"].get<double>(), 6);
+      if (j.contains("violation") && j["violation"].is_number()) {
+        run_violation = number_text(j["violation"].get<double>(), 3);
+      }
+    }
+  }
+  return "cost " + run_cost + " (paper " + number_text(paper.cost, 6) + "), terminal violation " + run_violation +
+         " (paper " + number_text(paper.terminal_violation, 3) + ")";
+}
+
+std::string script_name(const std::string& label) {
+  std::string s = "fig_";
+  s.append(label).append(".gp");
+  for (char& c : s) {
+    if (c == '-') c = '_';
+  }
+  return s;
+}
+
+fs::path require_file(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) {
+    throw OutputError(file.string() + ": not found (run `lgvi-testbed ocp` first, or drop --from)");
+  }
+  return file;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, int>> figure_systems() {
+  return {{"dumbbell", 2}, {"pendulum", 3}, {"cart-pendulum", 4}, {"connected-bodies", 5}};
+}
+
+CLI::App* add_figures_command(CLI::App& app, FiguresCommand& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "figures", "Regenerate the paper's Figs. 2-5 (PNG) from the four optimal control examples");
+  cmd->add_option("--out", o.out, "Output directory of the ocp files and the figures")->capture_default_str();
+  cmd->add_option("--from", o.from,
+                  "Draw from the ocp-SYSTEM-*.csv files in this directory instead of solving again");
+  std::vector<std::string> names;
+  for (const auto& [name, number] : figure_systems()) names.push_back(name);
+  cmd->add_option("--only", o.only, "Examples to draw: dumbbell, pendulum, cart-pendulum, connected-bodies")
+      ->check(CLI::IsMember(names));
+  o.plots_dir = default_plots_dir().string();
+  o.gnuplot = default_gnuplot();
+  cmd->add_option("--plots-dir", o.plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
+  cmd->add_option("--gnuplot", o.gnuplot, "gnuplot executable")->capture_default_str();
+  return cmd;
+}
+
+int run_figures_command(const FiguresCommand& o, const std::string& command_line, std::ostream& out,
+                        std::ostream& err) {
+  const fs::path out_dir(o.out);
+  const fs::path data_dir = o.from.empty() ? out_dir : fs::path(o.from);
+  if (!o.from.empty()) {
+    std::error_code ec;
+    if (!fs::is_directory(data_dir, ec)) {
+      err << "error: --from: " << data_dir.string() << ": not a directory\n" << std::flush;
+      return 1;
+    }
+  }
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) throw OutputError(out_dir.string() + ": cannot create the output directory: " + ec.message());
+
+  int status = 0;
+  for (const auto& [system, number] : figure_systems()) {
+    if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), system) == o.only.end()) continue;
+    const Scene scene = load_scene(resolve_ocp_scene(system, default_scenes_dir()));
+    if (!scene.ocp) throw SceneError(scene.file.string(), "ocp", "is required (the figure's optimal control problem)");
+    if (o.from.empty()) {
+      OcpCommand ocp;
+      ocp.system = system;
+      ocp.out = out_dir.string();
+      const int code = run_ocp_command(ocp, command_line, out, err);
+      if (code == 1) return 1;
+      if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
+    }
+    const std::string title =
+        figure_title(scene, number) + "\n" + figure_values(scene, ocp_output_file(data_dir, system, "summary.json"));
+    std::vector<std::string> args = {title,
+                                     gnuplot_path(require_file(ocp_output_file(data_dir, system, "trajectory.csv"))),
+                                     gnuplot_path(require_file(ocp_output_file(data_dir, system, "history.csv")))};
+    if (scene.ocp->method == OcpMethod::Direct) {
+      args.push_back(gnuplot_path(require_file(ocp_output_file(data_dir, system, "knots.csv"))));
+    }
+    verify_ocp_run(data_dir, system);  // the files above are one run's
+    std::string png_name = "fig";
+    png_name.append(std::to_string(number)).append("-").append(system).append(".png");
+    const fs::path png = out_dir / png_name;
+    run_gnuplot_script(o.gnuplot, fs::path(o.plots_dir) / script_name(system), png, args);
+    out << "wrote " << png.string() << "\n" << std::flush;
+  }
+  return status;
+}
+
+}  // namespace lgvi::experiments

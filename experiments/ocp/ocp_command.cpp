@@ -1,0 +1,402 @@
+#include "experiments/ocp/ocp_command.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <ostream>
+#include <sstream>
+
+#include "experiments/output/atomic_file.hpp"
+#include "experiments/output/csv_writer.hpp"
+#include "experiments/output/fields.hpp"
+#include "experiments/output/json_writer.hpp"
+#include "experiments/ocp/ocp_output.hpp"
+#include "experiments/scene/ocp_scene.hpp"
+#include "experiments/input/paper_values.hpp"
+#include "experiments/methods/simulate.hpp"
+#include "experiments/systems/systems.hpp"
+#include "experiments/systems/ocp.hpp"
+#include "lgvi/ocp/indirect.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using ocp_output::join;
+using ocp_output::values;
+
+std::vector<std::string> multiplier_columns(bool translation) {
+  std::vector<std::string> c;
+  const char* blocks_t[] = {"lambda_R", "lambda_x", "lambda_Pi", "lambda_p"};
+  const char* blocks_r[] = {"lambda_R", "lambda_Pi"};
+  if (translation) {
+    for (const char* b : blocks_t)
+      for (int i = 1; i <= 3; ++i) c.push_back(std::string(b) + std::to_string(i));
+  } else {
+    for (const char* b : blocks_r)
+      for (int i = 1; i <= 3; ++i) c.push_back(std::string(b) + std::to_string(i));
+  }
+  return c;
+}
+
+void write_history(const fs::path& file, const ocp::ShootingSummary& S, const Fields& metadata) {
+  CsvWriter csv(file, {"iteration", "violation", "cost", "step_length", "backtracks", "cond_sensitivity",
+                       "cond_inverted", "step_norm", "group_residual", "group_block", "sweeps", "seconds"});
+  for (const ocp::IterationRecord& r : S.history) {
+    const double row[] = {double(r.iteration), r.violation, r.cost, r.step_length, double(r.backtracks),
+                          r.cond_sensitivity, r.cond_inverted, r.step_norm, r.group_residual, r.group_block,
+                          double(r.sweeps), r.seconds};
+    csv.write_row(row);
+  }
+  csv.commit(metadata);
+}
+
+template <class Model>
+void write_trajectory(const fs::path& file, const ocp::ShootingResult<Model>& result,
+                      const ocp::StateMultiplierFlow<Model>& flow, const Fields& metadata) {
+  std::vector<std::string> cols = {"t"};
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 3; ++j) cols.push_back("R" + std::to_string(i) + std::to_string(j));
+  if constexpr (Model::has_translation) {
+    for (int i = 1; i <= 3; ++i) cols.push_back("x" + std::to_string(i));
+  }
+  for (int i = 1; i <= 3; ++i) cols.push_back("Omega" + std::to_string(i));
+  if constexpr (Model::has_translation) {
+    for (int i = 1; i <= 3; ++i) cols.push_back("v" + std::to_string(i));
+    for (int i = 1; i <= 3; ++i) cols.push_back("um" + std::to_string(i));
+    for (int i = 1; i <= 3; ++i) cols.push_back("uf" + std::to_string(i));
+  } else {
+    for (int i = 1; i <= 3; ++i) cols.push_back("u" + std::to_string(i));
+  }
+  for (const std::string& c : multiplier_columns(Model::has_translation)) cols.push_back(c);
+  CsvWriter csv(file, cols);
+  const auto& sw = result.sweep;
+  std::vector<double> row;
+  for (std::size_t k = 0; k < sw.states.size(); ++k) {
+    const auto& s = sw.states[k];
+    row.clear();
+    row.push_back(static_cast<double>(k) * flow.h());
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) row.push_back(s.R(i, j));
+    if constexpr (Model::has_translation) {
+      for (int i = 0; i < 3; ++i) row.push_back(s.x(i));
+    }
+    const Vec3 Omega = flow.lgvi().omega(s);
+    for (int i = 0; i < 3; ++i) row.push_back(Omega(i));
+    if constexpr (Model::has_translation) {
+      for (int i = 0; i < 3; ++i) row.push_back(s.v(i));
+    }
+    const typename Model::VecU u = k < sw.controls.size() ? sw.controls[k] : Model::VecU::Zero();
+    for (int i = 0; i < Model::nu; ++i) row.push_back(u(i));
+    const typename Model::VecS l = k < sw.multipliers.size() ? sw.multipliers[k] : Model::VecS::Zero();
+    for (int i = 0; i < 2 * Model::nq; ++i) row.push_back(l(i));
+    csv.write_row(row);
+  }
+  csv.commit(metadata);
+}
+
+template <class Model>
+int solve_and_write(const typename Model::System& system, const ocp::TransferProblem& problem,
+                    const ocp::ShootingOptions& options, const ocp_output::Run& run, const OcpCommand& cmd,
+                    const std::string& command_line, std::ostream& out, std::ostream& err) {
+  const ocp::ShootingResult<Model> result = ocp::solve_indirect(system, problem, options);
+  const ocp::ShootingSummary& S = result.summary;
+  if (S.status == ocp::ShootingStatus::InvalidInput) return ocp_output::invalid_input(cmd, S.message, err);
+  const ocp_output::Files files = ocp_output::create_files(cmd, run.label);
+  const fs::path& history = files.history;
+  const fs::path& trajectory = files.trajectory;
+
+  // Violation by parts (the norm is the 2-norm of all of them, see lgvi/ocp/indirect.hpp).
+  const Eigen::VectorXd& r = S.residual;
+  const bool have_r = r.size() > 0;
+  const int nq = Model::nq;
+  Fields f = {
+      {"system", run.system},
+      {"method", std::string("indirect shooting (Newton-Armijo on lambda_0)")},
+      {"form", std::string(to_string(options.form))},
+      {"h", options.h},
+      {"steps", static_cast<std::int64_t>(S.steps)},
+      {"t_final", problem.t_final},
+      {"W", ocp_output::weight_text(options.W)},
+      {"inertia_diagonal", join(system.inertia.J.diagonal())},
+      {"decomposition", S.decomposition},
+      {"merit", std::string(ocp::to_string(options.merit))},
+      {"globalization", std::string(ocp::to_string(options.globalization))},
+      {"nonmonotone_memory", static_cast<std::int64_t>(options.nonmonotone_memory)},
+      {"status", std::string(ocp::to_string(S.status))},
+      {"status_detail", S.brief()},
+      {"converged", S.converged()},
+      {"cost", S.cost},
+      {"violation", S.violation},
+      {"violation_norm", std::string(Model::has_translation
+                                         ? "2-norm of [log(R_f^T R_N)^vee; x_N - x_f; Omega_N - Omega_f; v_N - v_f]"
+                                         : "2-norm of [log(R_f^T R_N)^vee; Omega_N - Omega_f]")},
+      {"violation_rotation", have_r ? r.head(3).norm() : S.violation},
+  };
+  if constexpr (Model::has_translation) {
+    f.push_back({"violation_position", have_r ? r.segment(3, 3).norm() : S.violation});
+  }
+  f.push_back({"violation_angular_velocity", have_r ? r.segment(nq, 3).norm() : S.violation});
+  if constexpr (Model::has_translation) {
+    f.push_back({"violation_velocity", have_r ? r.segment(nq + 3, 3).norm() : S.violation});
+  }
+  if constexpr (Model::has_translation) {
+    // The dumbbell's cost split into the moment and force controls (W = I; with another W the
+    // split of u^T W u is not defined and the parts are left out).
+    if (ocp_output::weight_text(options.W) == "identity") {
+    double moment = 0.0, force = 0.0;
+    const auto [c0, c1] = impulse_weights(options.form, options.h);
+    const auto& u = result.sweep.controls;
+    for (std::size_t j = 0; j < u.size(); ++j) {
+      const double w = j == 0 ? c0 : j == S.steps ? c1 : c0 + c1;
+      moment += 0.5 * w * u[j].template head<3>().squaredNorm();
+      force += 0.5 * w * u[j].template tail<3>().squaredNorm();
+    }
+    f.push_back({"cost_moment", moment});
+    f.push_back({"cost_force", force});
+    }
+  }
+  const Fields rest = {
+      {"outer_iterations", std::int64_t{S.iterations}},
+      {"inner_iterations", std::int64_t{S.inner_iterations}},
+      {"sweeps", std::int64_t{S.sweeps}},
+      {"cond_min", S.cond_min},
+      {"cond_max", S.cond_max},
+      {"cond_full_min", S.cond_full_min},
+      {"cond_full_max", S.cond_full_max},
+      {"wall_seconds", S.wall_seconds},
+      {"multiplier_guess", join(S.multiplier_guess)},
+      {"multiplier", join(S.multiplier)},
+  };
+  f.insert(f.end(), rest.begin(), rest.end());
+  if (run.paper != nullptr) {
+    f.push_back({"paper_cost", run.paper->cost});
+    f.push_back({"paper_violation", run.paper->terminal_violation});
+    f.push_back({"paper_iterations", static_cast<std::int64_t>(run.paper->outer_iterations_approx.value_or(0.0))});
+  }
+  const Fields files_fields = {
+      {"history_csv", history.filename().string()},
+      {"trajectory_csv", trajectory.filename().string()},
+      {"git_describe", std::string(git_describe())},
+      {"command_line", command_line},
+  };
+  f.insert(f.end(), files_fields.begin(), files_fields.end());
+  f.push_back({"run_id", files.run_id});
+
+  write_history(history, S, f);
+  if (!result.sweep.states.empty()) {
+    const ocp::StateMultiplierFlow<Model> flow(system, problem, options.form, options.h, options.W, options.rotation);
+    write_trajectory<Model>(trajectory, result, flow, f);
+  }
+  // One object; the vectors as arrays of numbers (their text form stays in the CSVs' metadata).
+  write_json_object(files.summary, f,
+                    {{"inertia_diagonal", values(system.inertia.J.diagonal())},
+                     {"multiplier_guess", values(S.multiplier_guess)},
+                     {"multiplier", values(S.multiplier)}});
+  return ocp_output::finish(cmd, S, files, {history, trajectory, files.summary}, out, err);
+}
+
+}  // namespace
+
+CLI::Validator number_in(double lo, double hi, bool lo_open, const std::string& range) {
+  return CLI::Validator(
+      [lo, hi, lo_open, range](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        const bool parsed = !text.empty() && end == text.c_str() + text.size();
+        if (parsed && std::isfinite(x) && (lo_open ? x > lo : x >= lo) && x <= hi) return "";
+        return "must be a number in " + range + " (got '" + text + "')";
+      },
+      range);
+}
+
+CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "ocp", "Discrete optimal control of a scene's [ocp] problem: indirect (sec. 3.1, 3.2; Newton-Armijo shooting on "
+             "the initial multiplier) or direct (sec. 4.1, 4.2; spline knots by SLSQP); writes the iteration history, "
+             "the trajectory and a JSON summary");
+  cmd->add_option("SCENE", o.system,
+                  "A scene file with an [ocp] table (experiments/scenes/README.md), or a name: the paper's examples "
+                  "dumbbell (sec. 3.1), pendulum (sec. 3.2), cart-pendulum (sec. 4.1), connected-bodies (sec. 4.2) "
+                  "run experiments/scenes/ocp-NAME.toml")
+      ->required();
+  cmd->add_option("--form", o.form, "LGVI form: printed | symmetric (default: the scene's [integration] form)");
+  // Given options are checked when given (0 used to mean "the default" silently).
+  cmd->add_option("--h", o.h, "Time step (the horizon must be a whole number of steps; default: the scene's)")
+      ->check(number_in(0.0, 1e100, true, "(0, 1e100]"));
+  // At most 10^6 steps: the shooting keeps every step's state and sensitivities (1e8 steps ended
+  // in std::bad_alloc); the paper's problems take 1000.
+  cmd->add_option("--steps", o.steps, "Number of steps (instead of --h), 1 .. 1000000")
+      ->check(number_in(1.0, 1e6, false, "[1, 1000000]"));
+  cmd->add_flag("--no-decomposition", o.no_decomposition,
+                "Indirect: invert the full (rank-deficient) sensitivity instead of its shape block");
+  cmd->add_option("--merit", o.merit, "Indirect: line-search merit, velocity | momentum");
+  cmd->add_option("--globalization", o.globalization,
+                  "Indirect method: newton-armijo (the paper's) | levenberg-marquardt | homotopy "
+                  "(Newton homotopy path following, then Newton-Armijo) | continuation (the same path, Hermite "
+                  "predictor, Broyden corrector, Jacobians at path points only, then Newton-Armijo)");
+  cmd->add_option("--lm-damping", o.lm_damping, "Levenberg-Marquardt: initial damping mu_0 (relative to diag(J^T J))");
+  cmd->add_option("--nonmonotone-memory", o.nonmonotone_memory,
+                  "Newton-Armijo / homotopy end game: Armijo test against the largest merit of the last M "
+                  "accepted points (1: monotone)");
+  cmd->add_option("--guess", o.guess,
+                  "Indirect: initial multiplier lambda_0, comma-separated (2 n_q values: 6 pendulum and free body, "
+                  "12 dumbbell)")
+      ->delimiter(',');
+  cmd->add_option("--max-iterations", o.max_iterations,
+                  "Indirect: outer Newton iterations; direct: SLSQP evaluations (IPOPT iterations) per start");
+  cmd->add_option("--t-final", o.t_final, "Horizon (default: the scene's; the step stays the scene's h)")
+      ->check(number_in(0.0, 1e100, true, "(0, 1e100]"));
+  cmd->add_option("--sphere-radius", o.sphere_radius,
+                  "Dumbbell: radius of the two spheres (sets the rod-axis inertia; default: the scene's)");
+  cmd->add_option("--out", o.out, "Output directory")->capture_default_str();
+  cmd->add_option("--knots", o.knots, "Direct method: spline knots per control component");
+  cmd->add_option("--spline", o.spline, "Direct method: spline end condition, not-a-knot | natural");
+  cmd->add_option("--gradients", o.gradients, "Direct method: exact | finite-difference");
+  cmd->add_option("--tolerance", o.tolerance, "Direct method: bound on the terminal violation");
+  cmd->add_option("--starts", o.starts, "Direct method: SLSQP starts (the default guess, then seeded random knots)");
+  cmd->add_option("--solver", o.solver,
+                  "Direct method: slsqp (the paper's single shooting) | ipopt (multiple shooting)");
+  cmd->add_option("--hessian", o.hessian,
+                  "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
+                  "constraint curvature left out) | exact (Hessian of the Lagrangian by forward differences of its "
+                  "exact gradient, columns grouped by colour)");
+  cmd->add_option("--state-guess", o.state_guess,
+                  "Direct method, --solver ipopt: initial states, geodesic (between the boundary states) | "
+                  "simulated (the guess control's run)");
+  cmd->add_option("--shooting-interval", o.shooting_interval,
+                  "Direct method, --solver ipopt: LGVI steps per shooting segment (1: every state a variable; "
+                  "default 40)");
+  cmd->add_option("--seed", o.seed, "Direct method: seed of the random starts");
+  cmd->add_option("--first-start", o.first_start,
+                  "Direct method: number of the first start run (0 = the default guess; K > 0 the K-th "
+                  "seeded random start), so one start of a multistart can be rerun alone")
+      ->capture_default_str();
+  return cmd;
+}
+
+bool is_direct_system(const std::string& name_or_path) {
+  const Scene scene = load_scene(resolve_ocp_scene(name_or_path, default_scenes_dir()));
+  return scene.ocp && scene.ocp->method == OcpMethod::Direct;
+}
+
+fs::path ocp_output_file(const fs::path& dir, const std::string& label, const std::string& what) {
+  // Appends only: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
+  std::string name = "ocp-";
+  name.append(label).append("-").append(what);
+  return dir / name;
+}
+
+namespace {
+
+/// An option of the other method is an error, not silently ignored.
+void check_method_options(const OcpCommand& cmd, OcpMethod method) {
+  const std::string scene_text = " (the scene's ocp.method is '" + std::string(to_string(method)) + "')";
+  if (method == OcpMethod::Indirect) {
+    const std::pair<const char*, bool> direct_only[] = {
+        {"--knots", cmd.knots.has_value()},        {"--spline", cmd.spline.has_value()},
+        {"--gradients", cmd.gradients.has_value()}, {"--tolerance", cmd.tolerance.has_value()},
+        {"--starts", cmd.starts != 0},             {"--solver", cmd.solver.has_value()},
+        {"--hessian", cmd.hessian.has_value()},    {"--state-guess", cmd.state_guess.has_value()},
+        {"--shooting-interval", cmd.shooting_interval != 0}, {"--seed", cmd.seed.has_value()},
+        {"--first-start", cmd.first_start != 0}};
+    for (const auto& [name, given] : direct_only) {
+      if (given) throw InvalidInput(name, "applies to the direct method only, not to " + cmd.system + scene_text);
+    }
+  } else {
+    const std::pair<const char*, bool> indirect_only[] = {
+        {"--no-decomposition", cmd.no_decomposition}, {"--merit", cmd.merit.has_value()},
+        {"--globalization", cmd.globalization.has_value()}, {"--lm-damping", cmd.lm_damping.has_value()},
+        {"--nonmonotone-memory", cmd.nonmonotone_memory.has_value()}, {"--guess", !cmd.guess.empty()}};
+    for (const auto& [name, given] : indirect_only) {
+      if (given) throw InvalidInput(name, "applies to the indirect method only, not to " + cmd.system + scene_text);
+    }
+  }
+}
+
+/// The indirect method on the scene's problem, with the command's replacements.
+template <class M>
+int run_indirect(const Scene& scene, const M& m, const OcpCommand& cmd, const std::string& command_line,
+                 std::ostream& out, std::ostream& err) {
+  using B = OcpBinding<M>;
+  if constexpr (!B::indirect) {
+    throw InvalidInput("ocp.method", std::string("the ") + M::name + " has no indirect method");
+  } else {
+    const OcpDefinition& d = *scene.ocp;
+    ocp::ShootingOptions options = d.indirect;
+    options.form = scene.form;
+    options.h = scene.horizon.h;
+    if (cmd.merit) {
+      try {
+        options.merit = ocp::parse_merit(*cmd.merit);
+      } catch (const InvalidInput&) {
+        throw InvalidInput("--merit", "must be 'velocity' or 'momentum' (got '" + *cmd.merit + "')");
+      }
+    }
+    if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 0");
+    if (cmd.no_decomposition) options.decomposition = false;
+    if (cmd.globalization) {
+      try {
+        options.globalization = ocp::parse_globalization(*cmd.globalization);
+      } catch (const InvalidInput&) {
+        throw InvalidInput("--globalization", "must be 'newton-armijo', 'levenberg-marquardt', 'homotopy' or 'continuation' (got '" +
+                                                  *cmd.globalization + "')");
+      }
+    }
+    if (cmd.lm_damping) {
+      if (!(*cmd.lm_damping > 0.0) || !std::isfinite(*cmd.lm_damping)) {
+        throw InvalidInput("--lm-damping", "must be > 0");
+      }
+      options.lm_initial_damping = *cmd.lm_damping;
+    }
+    if (cmd.nonmonotone_memory) {
+      if (*cmd.nonmonotone_memory < 1) throw InvalidInput("--nonmonotone-memory", "must be >= 1");
+      options.nonmonotone_memory = *cmd.nonmonotone_memory;
+    }
+    if (cmd.max_iterations > 0) options.max_iterations = cmd.max_iterations;
+    const int n = 2 * B::IndirectModel::nq;
+    if (!cmd.guess.empty()) {
+      if (static_cast<int>(cmd.guess.size()) != n) {
+        throw InvalidInput("--guess", "needs " + std::to_string(n) + " values for the " + scene.system() + " (got " +
+                                          std::to_string(cmd.guess.size()) + ")");
+      }
+      options.initial_multiplier = Eigen::Map<const Eigen::VectorXd>(cmd.guess.data(), n);
+    }
+    const ocp::TransferProblem problem =
+        B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
+    const auto system = ocp_output::with_sphere_radius(B::system(m), cmd.sphere_radius);
+    return solve_and_write<typename B::IndirectModel>(system, problem, options, ocp_output::Run::of(scene), cmd,
+                                                      command_line, out, err);
+  }
+}
+
+}  // namespace
+
+int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std::ostream& out, std::ostream& err) {
+  const fs::path file = resolve_ocp_scene(cmd.system, default_scenes_dir());
+  ocp_output::check_step_options(cmd);
+  SceneOverrides overrides;
+  if (cmd.form) overrides.form = ocp_output::parse_form(cmd);
+  if (cmd.t_final != 0.0) overrides.t_final = cmd.t_final;
+  if (cmd.h != 0.0) overrides.h = cmd.h;
+  Scene scene = load_scene(file, overrides);
+  if (cmd.steps > 0) {
+    overrides.h = scene.horizon.t_final / static_cast<double>(cmd.steps);
+    scene = load_scene(file, overrides);
+  }
+  if (!scene.ocp) {
+    throw SceneError(file.string(), "ocp",
+                     "is required (the optimal control problem: an [ocp] table, experiments/scenes/README.md)");
+  }
+  check_method_options(cmd, scene.ocp->method);
+  return visit_binding(scene.model, [&](auto, const auto& m) {
+    return scene.ocp->method == OcpMethod::Indirect ? run_indirect(scene, m, cmd, command_line, out, err)
+                                                    : ocp_output::run_direct(scene, cmd, command_line, out, err);
+  });
+}
+
+}  // namespace lgvi::experiments

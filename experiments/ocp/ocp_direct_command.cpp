@@ -1,0 +1,282 @@
+// `lgvi-testbed ocp SCENE` for a scene whose [ocp] method is direct (the paper's sections 4.1 and
+// 4.2: ocp-cart-pendulum.toml, ocp-connected-bodies.toml): lgvi/ocp/direct.hpp. Writes, atomically, into --out DIR:
+//   ocp-SYSTEM-history.csv     one row per SLSQP evaluation (cost, violation)
+//   ocp-SYSTEM-trajectory.csv  t, the scene's state columns (experiments/recorder), controls
+//   ocp-SYSTEM-summary.json    cost, violation, evaluations, gradients, wall time, status, knots
+//   ocp-SYSTEM-knots.csv       t and the optimized knot values u1..u_nu, one row per knot (the
+//                              circles of the paper's Figs. 4(b), 5(b))
+#include <cmath>
+#include <filesystem>
+#include <ostream>
+
+#include "experiments/output/atomic_file.hpp"
+#include "experiments/output/csv_writer.hpp"
+#include "experiments/output/fields.hpp"
+#include "experiments/output/json_writer.hpp"
+#include "experiments/ocp/ocp_command.hpp"
+#include "experiments/ocp/ocp_output.hpp"
+#include "experiments/scene/ocp_scene.hpp"
+#include "experiments/input/paper_values.hpp"
+#include "experiments/methods/simulate.hpp"
+#include "experiments/systems/systems.hpp"
+#include "experiments/systems/ocp.hpp"
+#include "lgvi/ocp/direct.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kMaxEvaluations = 3000;      // per start, SLSQP (the connected bodies' starts take 400..2500)
+constexpr int kMaxIpoptIterations = 1000;  // per start (multiple shooting takes tens to hundreds)
+
+using ocp_output::join;
+using ocp_output::values;
+
+template <class F>
+std::string start_field(const ocp::DirectSummary& S, F f, const char* separator = " ") {
+  std::string s;
+  for (std::size_t i = 0; i < S.starts.size(); ++i) {
+    if (i > 0) s += separator;
+    s += f(S.starts[i]);
+  }
+  return s;
+}
+
+template <class B, class Model = typename B::DirectModel>
+int solve_and_write(const typename Model::System& system, const typename Model::Transfer& problem,
+                    const ocp::DirectOptions& options, const ocp_output::Run& run, const OcpCommand& cmd,
+                    const std::string& command_line, std::ostream& out, std::ostream& err) {
+  const ocp::DirectResult<Model> result = ocp::solve_direct(system, problem, options);
+  const ocp::DirectSummary& S = result.summary;
+  if (S.status == ocp::DirectStatus::InvalidInput) return ocp_output::invalid_input(cmd, S.message, err);
+  const ocp_output::Files files = ocp_output::create_files(cmd, run.label);
+  const fs::path& history = files.history;
+  const fs::path& trajectory = files.trajectory;
+  const fs::path knots_file = ocp_output_file(files.dir, run.label, "knots.csv");
+
+  Eigen::VectorXd knot_times(S.knots);
+  for (int i = 0; i < S.knots; ++i) knot_times(i) = problem.t_final * i / (S.knots - 1);
+  const Eigen::VectorXd& r = S.residual;
+  const bool have_r = r.size() > 0;
+  Fields f = {
+      {"system", run.system},
+      {"method", std::string(options.solver == ocp::DirectSolver::Slsqp
+                                 ? "direct: cubic-spline controls, SLSQP (NLopt)"
+                                 : "direct: cubic-spline controls, multiple shooting, IPOPT")},
+      {"solver", std::string(ocp::to_string(options.solver))},
+      {"hessian", std::string(options.solver == ocp::DirectSolver::Slsqp ? "" : ocp::to_string(options.ipopt_hessian))},
+      {"state_guess", std::string(options.solver == ocp::DirectSolver::Slsqp ? "" : ocp::to_string(options.state_guess))},
+      {"shooting_interval", std::int64_t{options.solver == ocp::DirectSolver::Slsqp ? 0 : options.shooting_interval}},
+      {"form", std::string(to_string(options.form))},
+      {"h", options.h},
+      {"steps", static_cast<std::int64_t>(S.steps)},
+      {"t_final", problem.t_final},
+      {"W", ocp_output::weight_text(options.W)},
+      {"knots", std::int64_t{S.knots}},
+      {"spline", std::string(ocp::to_string(options.spline))},
+      {"gradients", std::string(ocp::to_string(options.gradients))},
+      {"status", std::string(ocp::to_string(S.status))},
+      {"status_detail", S.brief()},
+      {"nlopt_result", S.nlopt_result},
+      {"converged", S.converged()},
+      {"tolerance", options.tolerance},
+      {"cost", S.cost},
+      {"violation", S.violation},
+      {"violation_norm", std::string(B::violation_norm)},
+      {"constraint_violation", S.constraint_violation},
+      {"constraints", std::int64_t{S.constraints}},
+  };
+  if (have_r) B::violation_parts(r, f);
+  const Fields rest = {
+      {"iterations", std::int64_t{S.iterations}},
+      {"evaluations", std::int64_t{S.evaluations}},
+      {"failed_simulations", std::int64_t{S.failed_simulations}},
+      {"gradient_evaluations", std::int64_t{S.gradient_evaluations}},
+      {"simulations", std::int64_t{S.simulations}},
+      {"wall_seconds", S.wall_seconds},
+      {"starts", std::int64_t(S.starts.size())},
+      {"first_start", std::int64_t{options.first_start}},
+      {"best_start", std::int64_t{S.best_start >= 0 ? S.starts[S.best_start].index : -1}},
+      {"seed", static_cast<std::int64_t>(options.seed)},
+      {"start_costs", start_field(S, [](const ocp::DirectStart& s) { return shortest(s.cost); })},
+      {"start_violations", start_field(S, [](const ocp::DirectStart& s) { return shortest(s.violation); })},
+      {"start_iterations", start_field(S, [](const ocp::DirectStart& s) { return std::to_string(s.iterations); })},
+      {"start_seconds", start_field(S, [](const ocp::DirectStart& s) { return shortest(s.seconds); })},
+      {"start_statuses", start_field(S, [](const ocp::DirectStart& s) { return std::string(ocp::to_string(s.status)); }, "; ")},
+      {"knot_times", join(knot_times)},
+      {"initial_knots", join(S.best_start >= 0 ? S.starts[S.best_start].initial_knots : S.initial_knots)},
+      {"knot_values", join(S.knot_values)},
+      {"knot_layout", std::string(B::knot_layout)},
+  };
+  f.insert(f.end(), rest.begin(), rest.end());
+  if (run.paper != nullptr) {
+    f.push_back({"paper_cost", run.paper->cost});
+    f.push_back({"paper_violation", run.paper->terminal_violation});
+  }
+  const Fields files_fields = {
+      {"history_csv", history.filename().string()},
+      {"trajectory_csv", trajectory.filename().string()},
+      {"knots_csv", knots_file.filename().string()},
+      {"git_describe", std::string(git_describe())},
+      {"command_line", command_line},
+  };
+  f.insert(f.end(), files_fields.begin(), files_fields.end());
+  f.push_back({"run_id", files.run_id});
+
+  {
+    CsvWriter csv(history, {"start", "evaluation", "iteration", "gradient", "cost", "violation", "seconds"});
+    int iteration = 0, start = -1;
+    for (const ocp::DirectIteration& it : S.history) {
+      if (it.start != start) iteration = 0;
+      start = it.start;
+      if (it.gradient) ++iteration;
+      const double row[] = {double(it.start), double(it.evaluation), double(iteration), it.gradient ? 1.0 : 0.0,
+                            it.cost, it.violation, it.seconds};
+      csv.write_row(row);
+    }
+    csv.commit(f);
+  }
+  if (!result.states.empty()) {
+    const ocp::DirectTranscription<Model> tr(system, problem, options);
+    std::vector<std::string> columns = {"t"};
+    B::state_columns(columns);
+    for (int i = 1; i <= Model::nu; ++i) columns.push_back(std::string(1, 'u') + static_cast<char>('0' + i));
+    columns.push_back("energy");
+    CsvWriter csv(trajectory, columns);
+    std::vector<double> row;
+    for (std::size_t k = 0; k < result.states.size(); ++k) {
+      row.clear();
+      row.push_back(static_cast<double>(k) * options.h);
+      B::state_row(row, tr.lgvi(), result.states[k]);
+      for (int i = 0; i < Model::nu; ++i) row.push_back(result.controls(i, static_cast<Eigen::Index>(k)));
+      row.push_back(B::energy(tr.lgvi(), result.states[k]));
+      csv.write_row(row);
+    }
+    csv.commit(f);
+  }
+  if (S.knot_values.size() == static_cast<Eigen::Index>(Model::nu) * S.knots) {
+    std::vector<std::string> cols = {"t"};
+    for (int i = 1; i <= Model::nu; ++i) cols.push_back(std::string("u").append(std::to_string(i)));
+    CsvWriter csv(knots_file, cols);
+    std::vector<double> row;
+    for (int j = 0; j < S.knots; ++j) {
+      row.assign({knot_times(j)});
+      for (int i = 0; i < Model::nu; ++i) row.push_back(S.knot_values(i * S.knots + j));  // knot_layout
+      csv.write_row(row);
+    }
+    csv.commit(f);
+  }
+  // One object; the vectors as arrays of numbers (their text form stays in the CSVs' metadata).
+  std::vector<double> start_costs, start_violations, start_iterations;
+  for (const ocp::DirectStart& s : S.starts) {
+    start_costs.push_back(s.cost);
+    start_violations.push_back(s.violation);
+    start_iterations.push_back(static_cast<double>(s.iterations));
+  }
+  write_json_object(files.summary, f,
+                    {{"knot_times", values(knot_times)},
+                     {"initial_knots", values(S.best_start >= 0 ? S.starts[S.best_start].initial_knots : S.initial_knots)},
+                     {"knot_values", values(S.knot_values)},
+                     {"start_costs", start_costs},
+                     {"start_violations", start_violations},
+                     {"start_iterations", start_iterations}});
+  return ocp_output::finish(cmd, S, files, {history, trajectory, knots_file, files.summary}, out, err);
+}
+
+}  // namespace
+
+namespace {
+
+template <class M>
+int run_direct_for(const Scene& scene, const M& m, const OcpCommand& cmd, const std::string& command_line,
+                   std::ostream& out, std::ostream& err) {
+  using B = OcpBinding<M>;
+  if constexpr (!B::direct) {
+    throw InvalidInput("ocp.method", std::string("the ") + M::name + " has no direct method");
+  } else {
+    const OcpDefinition& d = *scene.ocp;
+    ocp::DirectOptions options = d.direct;
+    options.form = scene.form;
+    options.h = scene.horizon.h;
+    if (cmd.spline) {
+      try {
+        options.spline = ocp::parse_spline_end(*cmd.spline);
+      } catch (const InvalidInput&) {
+        throw InvalidInput("--spline", "must be 'not-a-knot' or 'natural' (got '" + *cmd.spline + "')");
+      }
+    }
+    if (cmd.gradients) {
+      try {
+        options.gradients = ocp::parse_gradient_method(*cmd.gradients);
+      } catch (const InvalidInput&) {
+        throw InvalidInput("--gradients", "must be 'exact' or 'finite-difference' (got '" + *cmd.gradients + "')");
+      }
+    }
+    if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 1");
+    if (cmd.knots) {
+      if (*cmd.knots < 3) throw InvalidInput("--knots", "must be >= 3");
+      if (*cmd.knots != options.knots && options.initial_knots.size() > 0) {
+        throw InvalidInput("--knots", "the scene's ocp.direct.initial_knots are for " + std::to_string(options.knots) +
+                                          " knots");
+      }
+      options.knots = *cmd.knots;
+    }
+    if (cmd.tolerance) {
+      if (!(*cmd.tolerance > 0.0) || !std::isfinite(*cmd.tolerance)) throw InvalidInput("--tolerance", "must be > 0");
+      options.tolerance = *cmd.tolerance;
+    }
+    if (cmd.starts < 0) throw InvalidInput("--starts", "must be >= 1");
+    if (cmd.starts > 0) options.starts = cmd.starts;
+    if (cmd.seed) {
+      if (*cmd.seed < 0) throw InvalidInput("--seed", "must be >= 0");
+      options.seed = static_cast<std::uint64_t>(*cmd.seed);
+    }
+    if (cmd.first_start < 0) throw InvalidInput("--first-start", "must be >= 0");
+    options.first_start = cmd.first_start;
+    if (cmd.solver) {
+      try {
+        options.solver = ocp::parse_direct_solver(*cmd.solver);
+      } catch (const InvalidInput&) {
+        throw InvalidInput("--solver", "must be 'slsqp' or 'ipopt' (got '" + *cmd.solver + "')");
+      }
+    }
+    const bool ipopt = options.solver == ocp::DirectSolver::IpoptMultipleShooting;
+    if (cmd.shooting_interval < 0) throw InvalidInput("--shooting-interval", "must be >= 1");
+    if (cmd.shooting_interval > 0 && !ipopt) throw InvalidInput("--shooting-interval", "applies to --solver ipopt only");
+    if (cmd.shooting_interval > 0) options.shooting_interval = cmd.shooting_interval;
+    if (cmd.hessian) {
+      try {
+        options.ipopt_hessian = ocp::parse_ipopt_hessian(*cmd.hessian);
+      } catch (const InvalidInput&) {
+        throw InvalidInput("--hessian", "must be 'limited-memory', 'cost' or 'exact' (got '" + *cmd.hessian + "')");
+      }
+    }
+    if (cmd.state_guess) {
+      try {
+        options.state_guess = ocp::parse_shooting_state_guess(*cmd.state_guess);
+      } catch (const InvalidInput&) {
+        throw InvalidInput("--state-guess", "must be 'simulated' or 'geodesic' (got '" + *cmd.state_guess + "')");
+      }
+    }
+    if (cmd.max_iterations > 0) {
+      options.max_evaluations = cmd.max_iterations;
+    } else if (!d.max_evaluations_given) {
+      options.max_evaluations = ipopt ? kMaxIpoptIterations : kMaxEvaluations;
+    }
+    const auto problem = B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
+    const auto& system = ocp_output::with_sphere_radius(B::system(m), cmd.sphere_radius);
+    return solve_and_write<B>(system, problem, options, ocp_output::Run::of(scene), cmd, command_line, out, err);
+  }
+}
+
+}  // namespace
+
+int ocp_output::run_direct(const Scene& scene, const OcpCommand& cmd, const std::string& command_line,
+                           std::ostream& out, std::ostream& err) {
+  return visit_binding(scene.model,
+                       [&](auto, const auto& m) { return run_direct_for(scene, m, cmd, command_line, out, err); });
+}
+
+}  // namespace lgvi::experiments

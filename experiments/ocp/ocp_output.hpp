@@ -1,0 +1,153 @@
+// What the two `ocp` commands share (experiments/ocp/ocp_command.cpp, the indirect method;
+// experiments/ocp/ocp_direct_command.cpp, the direct method): the validation of the options both read,
+// the output directory and the ocp-SYSTEM-* file names in it, the summary's vector fields, and the
+// lines printed at the end with the exit status. Internal to those two files, not part of the CLI's
+// interface (experiments/ocp/ocp_command.hpp).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <initializer_list>
+#include <ostream>
+#include <string>
+#include <system_error>
+
+#include "experiments/output/atomic_file.hpp"
+#include "experiments/output/fields.hpp"
+#include "experiments/ocp/ocp_command.hpp"
+#include "experiments/scene/ocp_scene.hpp"
+#include "experiments/input/paper_values.hpp"
+#include "lgvi/lgvi.hpp"
+#include "lgvi/systems/dumbbell.hpp"
+
+namespace lgvi::experiments::ocp_output {
+
+/// v's entries in shortest round-trip form, separated by single spaces (a summary field).
+inline std::string join(const Eigen::VectorXd& v) {
+  std::string s;
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (i > 0) s += ' ';
+    s += shortest(v(i));
+  }
+  return s;
+}
+
+/// v's entries as a JSON array of the summary (write_json_object).
+inline std::vector<double> values(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+/// A new run id: time (ns since the epoch, hex), process id and 32 random bits. Every file of a
+/// run carries it (`run_id`), so that a reader can tell one run's files (verify_ocp_run).
+std::string new_run_id();
+/// --form (given): "printed" or "symmetric". Throws InvalidInput naming --form.
+inline LgviForm parse_form(const OcpCommand& cmd) {
+  try {
+    return parse_lgvi_form(cmd.form.value_or(""));
+  } catch (const InvalidInput&) {
+    throw InvalidInput("--form", "must be 'symmetric' or 'printed' (got '" + cmd.form.value_or("") + "')");
+  }
+}
+
+/// What a run's files are named by and compared with: the scene's label (ocp_label), its system
+/// and the paper's example named by its ocp.paper (null: none).
+struct Run {
+  std::string label;
+  std::string system;
+  const PaperExample* paper = nullptr;
+  static Run of(const Scene& scene) {
+    return {ocp_label(scene), scene.system(),
+            scene.ocp->paper.empty() ? nullptr : paper_values().find(scene.ocp->paper)};
+  }
+};
+
+/// The summary's "W": "identity" when W is empty or the identity, else its entries row by row.
+inline std::string weight_text(const Eigen::MatrixXd& W) {
+  if (W.size() == 0 || W.isIdentity(0.0)) return "identity";
+  const Eigen::MatrixXd Wt = W.transpose();  // row by row
+  return join(Eigen::Map<const Eigen::VectorXd>(Wt.data(), Wt.size()));
+}
+
+/// --sphere-radius: the dumbbell with the spheres' radius r (0: unchanged). Throws InvalidInput
+/// naming --sphere-radius for a bad radius.
+inline DumbbellSpacecraft with_sphere_radius(const DumbbellSpacecraft& d, double r) {
+  if (r == 0.0) return d;
+  try {
+    return DumbbellSpacecraft(d.mass, d.mu, d.rho, r);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput("--sphere-radius", e.what());
+  }
+}
+/// Any other system has no sphere radius: r must be 0 (not given).
+template <class System>
+const System& with_sphere_radius(const System& s, double r) {
+  if (r != 0.0) throw InvalidInput("--sphere-radius", "applies to scenes with a sphere radius (the dumbbell's) only");
+  return s;
+}
+
+/// The direct method on the scene's problem (experiments/ocp/ocp_direct_command.cpp); the same files,
+/// exit statuses and errors as run_ocp_command.
+int run_direct(const Scene& scene, const OcpCommand& cmd, const std::string& command_line, std::ostream& out,
+               std::ostream& err);
+
+/// --h and --steps exclude each other; --steps, if given, is >= 1. Throws InvalidInput.
+inline void check_step_options(const OcpCommand& cmd) {
+  if (cmd.h != 0.0 && cmd.steps != 0) throw InvalidInput("--h", "give either --h or --steps, not both");
+  if (cmd.steps < 0) throw InvalidInput("--steps", "must be >= 1");
+}
+
+/// The output directory of one run and the three files every `ocp` run writes in it
+/// (ocp_output_file names them). The summary is written last: it marks the run complete.
+struct Files {
+  std::string run_id = new_run_id();  ///< recorded in every file of the run
+  std::filesystem::path dir;         ///< --out
+  std::filesystem::path history;     ///< ocp-SYSTEM-history.csv
+  std::filesystem::path trajectory;  ///< ocp-SYSTEM-trajectory.csv
+  std::filesystem::path summary;     ///< ocp-SYSTEM-summary.json
+};
+
+/// Creates --out (with its parents) and names the files after `label`. Throws OutputError when
+/// the directory cannot be created.
+inline Files create_files(const OcpCommand& cmd, const std::string& label) {
+  Files f;
+  f.dir = cmd.out;
+  std::error_code ec;
+  std::filesystem::create_directories(f.dir, ec);
+  if (ec) throw OutputError(f.dir.string() + ": cannot create the output directory: " + ec.message());
+  f.history = ocp_output_file(f.dir, label, "history.csv");
+  f.trajectory = ocp_output_file(f.dir, label, "trajectory.csv");
+  f.summary = ocp_output_file(f.dir, label, "summary.json");
+  return f;
+}
+
+/// The solver rejected its input: one "error: ocp SYSTEM: MESSAGE" line on err. Returns the exit
+/// status 1.
+inline int invalid_input(const OcpCommand& cmd, const std::string& message, std::ostream& err) {
+  err << "error: ocp " << cmd.system << ": " << message << "\n" << std::flush;
+  return 1;
+}
+
+/// After the files are written: the summary's brief() line and "wrote FILE, FILE, ..." (the files
+/// in the order given) on out. Returns the exit status: 0 converged; otherwise 2, after an
+/// "error: ocp SYSTEM: ... (results written to DIR)" line on err. Summary: the method's summary
+/// (ocp::ShootingSummary, ocp::DirectSummary), with brief() and converged().
+template <class Summary>
+int finish(const OcpCommand& cmd, const Summary& S, const Files& files,
+           std::initializer_list<std::filesystem::path> written, std::ostream& out, std::ostream& err) {
+  out << "ocp " << cmd.system << ": " << S.brief() << "\n";
+  out << "wrote ";
+  const char* separator = "";
+  for (const std::filesystem::path& file : written) {
+    out << separator << file.string();
+    separator = ", ";
+  }
+  out << "\n";
+  if (!S.converged()) {
+    err << "error: ocp " << cmd.system << ": " << S.brief() << " (results written to " << files.dir.string()
+        << ")\n"
+        << std::flush;
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace lgvi::experiments::ocp_output

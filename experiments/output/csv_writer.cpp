@@ -1,0 +1,206 @@
+#include "experiments/output/csv_writer.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+namespace lgvi::experiments {
+
+namespace {
+
+std::string one_line(std::string s) {
+  for (char& c : s) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return s;
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\r': out += "\\r"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string shortest(double x) {
+  std::array<char, 32> buf;
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), x);
+  return std::string(buf.data(), r.ptr);
+}
+
+std::string to_text(const FieldValue& value) {
+  struct Visitor {
+    std::string operator()(const std::string& s) const { return s; }
+    std::string operator()(double x) const {
+      std::array<char, 32> buf;
+      const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), x, std::chars_format::general, 17);
+      return std::string(buf.data(), r.ptr);
+    }
+    std::string operator()(std::int64_t i) const { return std::to_string(i); }
+    std::string operator()(bool b) const { return b ? "true" : "false"; }
+  };
+  return std::visit(Visitor{}, value);
+}
+
+std::string to_json(const Fields& fields) {
+  struct Visitor {
+    std::string operator()(const std::string& s) const { return json_string(s); }
+    std::string operator()(double x) const { return std::isfinite(x) ? shortest(x) : "null"; }
+    std::string operator()(std::int64_t i) const { return std::to_string(i); }
+    std::string operator()(bool b) const { return b ? "true" : "false"; }
+  };
+  std::string out = "{";
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (i > 0) out += ", ";
+    out += json_string(fields[i].key) + ": " + std::visit(Visitor{}, fields[i].value);
+  }
+  return out + "}";
+}
+
+std::string metadata_lines(const Fields& fields) {
+  std::string text;
+  for (const Field& f : fields) text += "# " + one_line(f.key) + ": " + one_line(to_text(f.value)) + "\n";
+  return text;
+}
+
+std::vector<std::string> split_csv_row(const std::string& line) {
+  std::vector<std::string> cells;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    cells.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) return cells;
+    start = comma + 1;
+  }
+}
+
+namespace {
+
+std::string header_line(const std::vector<std::string>& columns) {
+  std::string line;
+  for (std::size_t i = 0; i < columns.size(); ++i) line += (i > 0 ? "," : "") + columns[i];
+  return line + "\n";
+}
+
+/// A blank comment line of exactly `size` >= 2 bytes: '#', spaces, newline.
+std::string padding_line(std::size_t size) {
+  std::string line(1, '#');  // appended, not "#" + std::string: GCC 12 warns falsely (-Wrestrict)
+  line.append(size - 2, ' ');
+  return line + '\n';
+}
+
+}  // namespace
+
+CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> columns)
+    : target_(std::move(target)), columns_(std::move(columns)), file_(target_), buffered_(file_.is_stream()) {}
+
+CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> columns, const Fields& leading,
+                     std::size_t reserve)
+    : target_(std::move(target)), columns_(std::move(columns)), leading_(metadata_lines(leading)), file_(target_),
+      reserve_(std::max<std::size_t>(reserve, 2)) {
+  const std::string header = header_line(columns_);
+  file_.write(leading_);
+  if (file_.is_stream()) {  // no block to come back to: the closing lines go after the rows
+    trailer_ = true;
+    reserve_ = 0;
+    file_.write(header);
+    return;
+  }
+  file_.write(padding_line(reserve_));  // replaced at commit
+  file_.write(header);
+  reserve_offset_ = static_cast<long>(leading_.size());
+  rows_offset_ = reserve_offset_ + static_cast<long>(reserve_ + header.size());
+}
+
+void CsvWriter::emit(std::string_view text) {
+  if (buffered_) {
+    buffer_.append(text);
+  } else {
+    file_.write(text);
+  }
+}
+
+void CsvWriter::write_row(std::span<const double> values) {
+  assert(values.size() == columns_.size());
+  // One buffer per row; 25 characters hold any double in its shortest round-trip form (at most
+  // 24: "-2.2250738585072014e-308") plus the separator.
+  std::array<char, 64 * 26> line;
+  char* p = line.data();
+  char* const end = line.data() + line.size();
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (end - p < 26) {  // very wide rows: flush the partial line
+      emit(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
+      p = line.data();
+    }
+    if (i > 0) *p++ = ',';
+    p = std::to_chars(p, end, values[i]).ptr;
+  }
+  *p++ = '\n';
+  emit(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
+  ++rows_;
+}
+
+void CsvWriter::commit(const Fields& closing) {
+  const std::string closing_text = metadata_lines(closing);
+  if (trailer_) {
+    file_.write(closing_text);
+    file_.commit();
+    return;
+  }
+  if (buffered_) {
+    file_.write(leading_ + closing_text + header_line(columns_));
+    file_.write(buffer_);
+    file_.commit();
+    return;
+  }
+  if (reserve_ > 0 && (closing_text.size() == reserve_ || closing_text.size() + 2 <= reserve_)) {
+    // Into the reserved block: the rows stay where they are.
+    file_.flush();
+    if (std::fseek(file_.stream(), reserve_offset_, SEEK_SET) != 0) {
+      throw OutputError(target_.string() + ": cannot seek in the temporary file: " + std::strerror(errno));
+    }
+    file_.write(closing_text);
+    if (closing_text.size() < reserve_) file_.write(padding_line(reserve_ - closing_text.size()));
+    file_.commit();
+    return;
+  }
+  // The metadata does not fit (or no block was reserved): a second file, the rows copied once.
+  file_.flush();
+  AtomicFile out(target_);
+  out.write(leading_ + closing_text + header_line(columns_));
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(file_.temp_path().c_str(), "rb"), &std::fclose);
+  if (!in || std::fseek(in.get(), rows_offset_, SEEK_SET) != 0) {
+    throw OutputError(target_.string() + ": cannot reread the rows: " + std::strerror(errno));
+  }
+  std::array<char, 1 << 16> buf;
+  std::size_t n = 0;
+  while ((n = std::fread(buf.data(), 1, buf.size(), in.get())) > 0) out.write(std::string_view(buf.data(), n));
+  if (std::ferror(in.get())) throw OutputError(target_.string() + ": cannot reread the rows");
+  out.commit();
+  file_.discard();
+}
+
+}  // namespace lgvi::experiments

@@ -1,0 +1,143 @@
+#include "experiments/output/plot.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <algorithm>
+#include <fstream>
+
+#include "experiments/output/atomic_file.hpp"
+#include "experiments/output/data_dir.hpp"
+
+extern char** environ;
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+fs::path default_plots_dir() { return data_dir("plots", "experiments/plots"); }
+std::string default_gnuplot() { return LGVI_GNUPLOT; }
+
+namespace {
+
+std::string first_line(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  // gnuplot echoes the offending script line before the message; keep the first non-blank one
+  // that says something ("line N: ...") when there is one.
+  std::string first;
+  while (std::getline(in, line)) {
+    if (line.find_first_not_of(" \t^") == std::string::npos) continue;
+    if (first.empty()) first = line;
+    if (line.find("line ") != std::string::npos) return line;
+  }
+  return first.empty() ? "no message" : first;
+}
+
+}  // namespace
+
+std::string gnuplot_path(const fs::path& path) {
+  const std::string p = path.string();
+  if (path.is_absolute()) return p;
+  return "./" + p;
+}
+
+std::string gnuplot_literal(const std::string& text) {
+  std::string q = "'";
+  for (const char c : text) {
+    if (c == '\'') {
+      q += "''";
+    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      q += ' ';
+    } else {
+      q += c;
+    }
+  }
+  return q + "'";
+}
+
+std::string gnuplot_path_literal(const fs::path& path) {
+  const std::string p = gnuplot_path(path);
+  for (const char c : p) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      throw OutputError(path.string() + ": a path with a control character cannot be handed to gnuplot");
+    }
+  }
+  return gnuplot_literal(p);
+}
+
+bool is_complete_png(const fs::path& file) {
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  // The last chunk: length 0, type IEND, CRC ae 42 60 82.
+  static constexpr unsigned char kEnd[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
+  std::ifstream in(file, std::ios::binary);
+  unsigned char head[8], tail[12];
+  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return false;
+  if (!in.seekg(-static_cast<std::streamoff>(sizeof tail), std::ios::end)) return false;
+  if (!in.read(reinterpret_cast<char*>(tail), sizeof tail)) return false;
+  return std::equal(head, head + 8, kSignature) && std::equal(tail, tail + 12, kEnd);
+}
+
+void render_plot(const std::string& gnuplot, const fs::path& script, const fs::path& png,
+                 const std::string& title, const std::string& xlabel, const std::string& ylabel,
+                 const std::vector<Curve>& curves) {
+  std::vector<std::string> args = {title, xlabel, ylabel};
+  for (const Curve& c : curves) {
+    args.push_back(gnuplot_path(c.csv));
+    args.push_back(c.label);
+  }
+  run_gnuplot_script(gnuplot, script, png, args);
+}
+
+void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, const fs::path& png,
+                        const std::vector<std::string>& script_args) {
+  std::error_code ec;
+  if (!fs::is_regular_file(script, ec)) throw OutputError(script.string() + ": gnuplot script not found");
+  TempPath out(png);
+  TempPath log(png.string() + ".log");
+  std::vector<std::string> args = {gnuplot, "-c", gnuplot_path(script), gnuplot_path(out.path())};
+  args.insert(args.end(), script_args.begin(), script_args.end());
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  // fork + exec rather than posix_spawn: the child asks the kernel for SIGTERM when this thread
+  // (which waits for it below) dies, so killing the harness, even with SIGKILL, never leaves
+  // gnuplot running. Between fork and exec the child calls async-signal-safe functions only.
+  const std::string log_path = log.path().string();
+  const pid_t parent = ::getpid();
+  const pid_t pid = fork();
+  if (pid < 0) throw OutputError(png.string() + ": cannot run " + gnuplot + ": " + std::strerror(errno));
+  if (pid == 0) {
+    if (prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || getppid() != parent) _exit(126);
+    const int in = open("/dev/null", O_RDONLY);
+    const int out_fd = open("/dev/null", O_WRONLY);
+    const int err_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (in < 0 || out_fd < 0 || err_fd < 0 || dup2(in, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(126);
+    execve(gnuplot.c_str(), argv.data(), environ);
+    const char msg[] = "cannot execute gnuplot\n";
+    (void)!write(2, msg, sizeof msg - 1);
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) throw OutputError(png.string() + ": waiting for gnuplot: " + std::strerror(errno));
+  }
+  const bool exited_ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (!exited_ok) {
+    throw OutputError(png.string() + ": gnuplot " + script.filename().string() + " failed: " + first_line(log.path()));
+  }
+  if (!is_complete_png(out.path())) {
+    throw OutputError(png.string() + ": gnuplot " + script.filename().string() +
+                      " exited 0 but wrote an incomplete PNG (" + std::to_string(fs::file_size(out.path(), ec)) +
+                      " bytes, no IEND chunk: disk full?)");
+  }
+  out.commit();
+}
+
+}  // namespace lgvi::experiments

@@ -1,0 +1,258 @@
+#include "experiments/suites/journal.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "experiments/output/atomic_file.hpp"
+#include "experiments/scene/scene.hpp"
+#include "experiments/methods/simulate.hpp"
+#include "experiments/suites/suite.hpp"
+#include "lgvi/inertia.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
+constexpr std::uint64_t kFnvPrime = 1099511628211ull;
+
+std::uint64_t fnv_update(std::uint64_t h, const char* data, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= static_cast<unsigned char>(data[i]);
+    h *= kFnvPrime;
+  }
+  return h;
+}
+
+std::string hex(std::uint64_t h) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+// The files a scene reads besides itself (Scene::inputs: control samples); none when it does not
+// parse (the suite reports that when it loads the scene).
+std::vector<fs::path> scene_inputs(const fs::path& scene_file) {
+  try {
+    return parse_scene_file(scene_file).inputs;
+  } catch (const SceneError&) {
+    return {};
+  }
+}
+
+}  // namespace
+
+std::string text_fnv1a64(const std::string& text) { return hex(fnv_update(kFnvOffset, text.data(), text.size())); }
+
+std::string file_fnv1a64(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return "";
+  std::uint64_t h = kFnvOffset;
+  std::vector<char> buf(1 << 16);
+  while (in) {
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    h = fnv_update(h, buf.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  return in.bad() ? std::string() : hex(h);
+}
+
+std::string suite_fingerprint(const Suite& suite, bool quick, const fs::path& scenes_dir) {
+  std::string text = suite.name + "\n" + (quick ? "quick" : "full") + "\n" + std::string(git_describe()) + "\n";
+  for (const SuiteCase& c : suite.cases) {
+    text += c.id + "\t" + c.group + "\t" + to_string(c.expect) + "\t" + to_json(c.labels) + "\n";
+  }
+  std::vector<fs::path> scenes;
+  std::error_code ec;
+  for (fs::directory_iterator it(scenes_dir, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    if (it->path().extension() == ".toml") scenes.push_back(it->path());
+  }
+  std::sort(scenes.begin(), scenes.end());
+  for (const fs::path& p : scenes) {
+    text += p.filename().string() + "\t" + file_fnv1a64(p) + "\n";
+    for (const fs::path& in : scene_inputs(p)) text += "reads\t" + in.filename().string() + "\t" + file_fnv1a64(in) + "\n";
+  }
+  for (const SuiteInput& in : suite.inputs) text += "input\t" + in.what + "\t" + in.digest + "\n";
+  return text_fnv1a64(text);
+}
+
+fs::path manifest_path(const fs::path& out_dir) { return out_dir / "suite-run.json"; }
+fs::path journal_path(const fs::path& out_dir) { return out_dir / "suite-journal.jsonl"; }
+
+void write_manifest(const fs::path& out_dir, const SuiteManifest& m) {
+  json j = {{"suite", m.suite},
+            {"quick", m.quick},
+            {"git_describe", m.git_describe},
+            {"fingerprint", m.fingerprint},
+            {"shard", std::to_string(m.shard_index) + "/" + std::to_string(m.shard_count)},
+            {"shard_index", m.shard_index},
+            {"shard_count", m.shard_count},
+            {"suite_cases", m.suite_cases},
+            {"shard_cases", m.shard_cases},
+            {"finished", m.finished},
+            {"complete", m.complete},
+            {"interrupted_by", m.interrupted_by}};
+  if (!m.inputs.empty()) {
+    json inputs = json::array();
+    for (const SuiteInput& in : m.inputs) inputs.push_back({{"what", in.what}, {"digest", in.digest}});
+    j["inputs"] = inputs;
+  }
+  AtomicFile f(manifest_path(out_dir));
+  f.write(j.dump(1) + "\n");
+  f.commit();
+}
+
+SuiteManifest read_manifest(const fs::path& out_dir) {
+  const fs::path file = manifest_path(out_dir);
+  std::ifstream in(file);
+  if (!in) throw InvalidInput(file.string(), "cannot be read (not the output directory of a suite run?)");
+  const json j = json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw InvalidInput(file.string(), "is not a JSON object");
+  SuiteManifest m;
+  try {
+    m.suite = j.at("suite").get<std::string>();
+    m.quick = j.at("quick").get<bool>();
+    m.git_describe = j.at("git_describe").get<std::string>();
+    m.fingerprint = j.at("fingerprint").get<std::string>();
+    m.shard_index = j.at("shard_index").get<std::size_t>();
+    m.shard_count = j.at("shard_count").get<std::size_t>();
+    m.suite_cases = j.at("suite_cases").get<std::size_t>();
+    m.shard_cases = j.at("shard_cases").get<std::size_t>();
+    m.finished = j.at("finished").get<std::size_t>();
+    m.complete = j.at("complete").get<bool>();
+    m.interrupted_by = j.value("interrupted_by", std::string());
+    if (j.contains("inputs")) {
+      for (const json& in : j.at("inputs")) {
+        m.inputs.push_back({in.at("what").get<std::string>(), in.at("digest").get<std::string>()});
+      }
+    }
+  } catch (const json::exception& e) {
+    throw InvalidInput(file.string(), std::string("malformed manifest: ") + e.what());
+  }
+  return m;
+}
+
+std::vector<FileDigest> digest_case_files(const fs::path& out_dir, const std::string& jsonl_line) {
+  const json row = json::parse(jsonl_line, nullptr, false);
+  std::vector<FileDigest> files;
+  if (!row.is_object()) return files;
+  for (const auto& item : row.items()) {
+    const std::string& key = item.key();
+    if (key.size() < 5 || key.compare(key.size() - 5, 5, "_path") != 0 || !item.value().is_string()) continue;
+    FileDigest d;
+    d.path = item.value().get<std::string>();
+    if (d.path.empty()) continue;
+    const fs::path p = out_dir / d.path;
+    std::error_code ec;
+    d.size = fs::file_size(p, ec);
+    if (ec) continue;  // named but not written (a rejected case): not one of its outputs
+    d.fnv1a64 = file_fnv1a64(p);
+    files.push_back(std::move(d));
+  }
+  return files;
+}
+
+std::string verify_files(const fs::path& out_dir, const JournalEntry& e) {
+  for (const FileDigest& d : e.files) {
+    const fs::path p = out_dir / d.path;
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(p, ec);
+    if (ec) return p.string() + " is missing";
+    if (size != d.size) return p.string() + " has " + std::to_string(size) + " bytes, " + std::to_string(d.size) + " recorded";
+    if (file_fnv1a64(p) != d.fnv1a64) return p.string() + " differs from the file recorded (digest)";
+  }
+  return "";
+}
+
+namespace {
+
+std::string entry_line(const JournalEntry& e) {
+  json files = json::array();
+  for (const FileDigest& d : e.files) files.push_back({{"path", d.path}, {"size", d.size}, {"fnv1a64", d.fnv1a64}});
+  // nlohmann::json orders keys alphabetically; "done" is written last by hand (the marker).
+  const json j = {{"index", e.index},          {"case", e.id},   {"fingerprint", e.fingerprint},
+                  {"csv_line", e.csv_line},    {"jsonl_line", e.jsonl_line}, {"files", files}};
+  std::string line = j.dump();
+  line.pop_back();  // '}'
+  line += ",\"done\":true}\n";
+  return line;
+}
+
+}  // namespace
+
+JournalWriter::JournalWriter(const fs::path& out_dir, bool truncate) : path_(journal_path(out_dir)) {
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | (truncate ? O_TRUNC : 0), 0644);
+  if (fd_ < 0) throw OutputError(path_.string() + ": cannot open the suite journal: " + std::strerror(errno));
+}
+
+JournalWriter::~JournalWriter() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void JournalWriter::append(const JournalEntry& e) {
+  const std::string line = entry_line(e);
+  // One write: O_APPEND places it at the end as a whole; a short write (disk full) is an error.
+  const ssize_t n = ::write(fd_, line.data(), line.size());
+  if (n != static_cast<ssize_t>(line.size())) {
+    throw OutputError(path_.string() + ": cannot append to the suite journal: " +
+                      (n < 0 ? std::strerror(errno) : "short write (disk full?)"));
+  }
+}
+
+std::map<std::size_t, JournalEntry> read_journal(const fs::path& out_dir) {
+  std::map<std::size_t, JournalEntry> entries;
+  std::ifstream in(journal_path(out_dir));
+  std::string line;
+  while (std::getline(in, line)) {
+    const json j = json::parse(line, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("done") || j["done"] != true) continue;
+    try {
+      JournalEntry e;
+      e.index = j.at("index").get<std::size_t>();
+      e.id = j.at("case").get<std::string>();
+      e.fingerprint = j.at("fingerprint").get<std::string>();
+      e.csv_line = j.at("csv_line").get<std::string>();
+      e.jsonl_line = j.at("jsonl_line").get<std::string>();
+      for (const json& f : j.at("files")) {
+        e.files.push_back({f.at("path").get<std::string>(), f.at("size").get<std::uintmax_t>(),
+                           f.at("fnv1a64").get<std::string>()});
+      }
+      entries[e.index] = std::move(e);
+    } catch (const json::exception&) {
+      continue;  // not an entry of this format: as good as absent
+    }
+  }
+  return entries;
+}
+
+void rewrite_journal(const fs::path& out_dir, const std::map<std::size_t, JournalEntry>& entries) {
+  AtomicFile f(journal_path(out_dir));
+  for (const auto& item : entries) f.write(entry_line(item.second));
+  f.commit();
+}
+
+void write_summaries_from(const fs::path& out_dir, const std::string& header,
+                          const std::map<std::size_t, JournalEntry>& entries) {
+  AtomicFile csv(out_dir / "summary.csv");
+  AtomicFile jsonl(out_dir / "summary.jsonl");
+  if (!header.empty()) csv.write(header + "\n");
+  for (const auto& item : entries) {
+    csv.write(item.second.csv_line + "\n");
+    jsonl.write(item.second.jsonl_line + "\n");
+  }
+  csv.commit();
+  jsonl.commit();
+}
+
+}  // namespace lgvi::experiments

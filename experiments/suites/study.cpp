@@ -1,0 +1,740 @@
+#include "experiments/suites/study.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include <toml++/toml.h>
+
+#include "experiments/output/data_dir.hpp"
+#include "experiments/systems/exact_reference.hpp"
+#include "experiments/scene/scene.hpp"
+#include "experiments/input/toml_text.hpp"
+#include "experiments/suites/journal.hpp"
+#include "experiments/suites/common.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+using suites::MethodSpec;
+
+namespace {
+
+/// Keys a study's top level may hold; all but name, description and quick may also be in [quick].
+constexpr std::string_view kTopKeys[] = {"name",    "description",      "scenes", "methods", "h",
+                                         "steps",   "tolerances",       "horizons", "reference", "metrics",
+                                         "samples", "adaptive_samples", "probes", "quick"};
+constexpr std::string_view kQuickKeys[] = {"scenes",  "methods",          "h",      "steps",   "tolerances", "horizons",
+                                           "reference", "metrics",        "samples", "adaptive_samples", "probes"};
+constexpr std::string_view kSceneKeys[] = {"scene", "horizons", "h", "steps", "tolerances"};
+constexpr std::string_view kMethodKeys[] = {"method", "model"};
+constexpr std::string_view kReferenceKeys[] = {"kind", "method", "model", "h", "steps", "rtol"};
+/// The bound `simulate --rtol` states: above 0.1 a run is no solution.
+constexpr double kMaxRtol = 0.1;
+
+std::string number_text(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", x);
+  return buf;
+}
+
+std::string join(std::span<const std::string_view> items) {
+  std::string s;
+  for (const std::string_view i : items) s += (s.empty() ? "" : ", ") + std::string(i);
+  return s;
+}
+
+const char* type_of(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a float";
+    case toml::node_type::boolean: return "a boolean";
+    default: return "a date/time";
+  }
+}
+
+/// The reason part of an InvalidInput ("field: reason").
+std::string reason_of(const InvalidInput& e) {
+  const std::string what = e.what();
+  const std::string prefix = e.field() + ": ";
+  return what.starts_with(prefix) ? what.substr(prefix.size()) : what;
+}
+
+/// Typed access to the study's TOML tree; every failure a SceneError naming file and field.
+class StudyReader {
+ public:
+  StudyReader(std::string file, const toml::table& doc, const toml::table* quick)
+      : file_(std::move(file)), doc_(doc), quick_(quick) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& reason) const {
+    throw SceneError(file_, field, reason);
+  }
+
+  void check_keys(const toml::table& t, const std::string& prefix, std::span<const std::string_view> allowed) const {
+    for (auto&& [key, value] : t) {
+      (void)value;
+      if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
+      fail(prefix + std::string(key.str()), "unknown key (expected one of: " + join(allowed) + ")");
+    }
+  }
+
+  /// A top-level value with its field name: from [quick] when the quick form is run and the
+  /// table has it, else from the top level; node is null when neither has it.
+  struct Value {
+    const toml::node* node = nullptr;
+    std::string field;
+  };
+  Value get(std::string_view key) const {
+    if (quick_ != nullptr) {
+      if (const toml::node* n = quick_->get(key)) return {n, "quick." + std::string(key)};
+    }
+    return {doc_.get(key), std::string(key)};
+  }
+
+  std::string string(const toml::node& n, const std::string& field) const {
+    const auto* s = n.as_string();
+    if (s == nullptr) fail(field, std::string("must be a string (got ") + type_of(n) + ")");
+    return s->get();
+  }
+
+  double number(const toml::node& n, const std::string& field) const {
+    double v = 0.0;
+    if (const auto* f = n.as_floating_point()) {
+      v = f->get();
+    } else if (const auto* i = n.as_integer()) {
+      v = static_cast<double>(i->get());
+    } else {
+      fail(field, std::string("must be a number (got ") + type_of(n) + ")");
+    }
+    if (!std::isfinite(v)) fail(field, "must be finite (got " + number_text(v) + ")");
+    return v;
+  }
+
+  double positive(const toml::node& n, const std::string& field) const {
+    const double v = number(n, field);
+    if (!(v > 0.0)) fail(field, "must be > 0 (got " + number_text(v) + ")");
+    if (v < kMinSceneMagnitude || v > kMaxSceneMagnitude) {
+      fail(field, "must be between 1e-100 and 1e100 (got " + number_text(v) + ")");
+    }
+    return v;
+  }
+
+  std::int64_t integer(const toml::node& n, const std::string& field, std::int64_t min) const {
+    const auto* i = n.as_integer();
+    if (i == nullptr) fail(field, std::string("must be an integer (got ") + type_of(n) + ")");
+    if (i->get() < min) fail(field, "must be an integer >= " + std::to_string(min) + " (got " + std::to_string(i->get()) + ")");
+    return i->get();
+  }
+
+  /// A non-empty array.
+  const toml::array& array(const toml::node& n, const std::string& field) const {
+    const toml::array* a = n.as_array();
+    if (a == nullptr) fail(field, std::string("must be an array (got ") + type_of(n) + ")");
+    if (a->empty()) fail(field, "is an empty sweep (give at least one value)");
+    return *a;
+  }
+
+  /// A non-empty array of numbers > 0 (at most `max` when given), without repeats.
+  std::vector<double> positive_list(const toml::node& n, const std::string& field,
+                                    std::optional<double> max = std::nullopt) const {
+    std::vector<double> v;
+    const toml::array& a = array(n, field);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::string f = field + "[" + std::to_string(i) + "]";
+      const double x = positive(*a.get(i), f);
+      if (max && x > *max) fail(f, "must be at most " + number_text(*max) + " (got " + number_text(x) + ")");
+      if (std::find(v.begin(), v.end(), x) != v.end()) fail(f, "repeats " + number_text(x));
+      v.push_back(x);
+    }
+    return v;
+  }
+
+  /// A non-empty array of integers >= 1, without repeats.
+  std::vector<std::int64_t> count_list(const toml::node& n, const std::string& field) const {
+    std::vector<std::int64_t> v;
+    const toml::array& a = array(n, field);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::string f = field + "[" + std::to_string(i) + "]";
+      const std::int64_t x = integer(*a.get(i), f, 1);
+      if (std::find(v.begin(), v.end(), x) != v.end()) fail(f, "repeats " + std::to_string(x));
+      v.push_back(x);
+    }
+    return v;
+  }
+
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+  const toml::table& doc_;
+  const toml::table* quick_;
+};
+
+/// The fixed-step sweep: steps h, or numbers of steps over the horizon (h = T / n); neither: the
+/// scene's own h.
+struct FixedSweep {
+  std::vector<double> h;
+  std::vector<std::int64_t> steps;
+  std::string field;  ///< where it was given
+};
+
+struct SceneEntry {
+  std::string arg;   ///< SimulateSpec::scene: a name in the scenes directory or a path
+  std::string name;  ///< the scene's name (file stem): case ids, groups, the "scene" column
+  std::optional<Scene> scene;  ///< as its file says (loaded by read_scene)
+  std::string field;
+  std::vector<double> horizons;
+  std::string horizons_field;
+  FixedSweep fixed;
+  std::vector<double> tolerances;
+  std::string tolerances_field;
+};
+
+struct Reference {
+  enum class Kind { None, Exact, ExactOrRun, Run } kind = Kind::None;
+  std::string method;
+  MethodOptions options;
+  std::optional<double> h;
+  std::optional<std::int64_t> steps;
+  std::string field = "reference";
+};
+
+FixedSweep read_fixed_sweep(const StudyReader& r, const toml::node* h, const std::string& h_field,
+                            const toml::node* steps, const std::string& steps_field) {
+  FixedSweep s;
+  if (h != nullptr && steps != nullptr) {
+    r.fail(steps_field, "give the fixed steps as h or as steps (numbers of steps per horizon), not both");
+  }
+  if (h != nullptr) {
+    s.h = r.positive_list(*h, h_field);
+    s.field = h_field;
+  }
+  if (steps != nullptr) {
+    s.steps = r.count_list(*steps, steps_field);
+    s.field = steps_field;
+  }
+  return s;
+}
+
+/// A method by name with an optional model (a baseline's defaults to quaternion), checked by
+/// building it; errors name name_field or model_field.
+MethodSpec make_study_method(const StudyReader& r, const std::string& name, const std::string& name_field,
+                             std::optional<std::string> model, const std::string& model_field) {
+  const MethodInfo* info = nullptr;
+  try {
+    info = &method_info(name);
+  } catch (const InvalidInput& e) {
+    r.fail(name_field, reason_of(e));
+  }
+  if (!model && !info->on_group()) model = "quaternion";
+  MethodSpec spec(name, model);
+  MethodOptions check = spec.options();
+  if (!info->fixed_step()) check.rtol = 1e-6;
+  try {
+    (void)info->make(check);
+  } catch (const InvalidInput& e) {
+    r.fail(e.field() == "model" ? model_field : name_field, reason_of(e));
+  }
+  return spec;
+}
+
+/// A method entry: "name" or {method = "name", model = "..."}.
+MethodSpec read_method(const StudyReader& r, const toml::node& n, const std::string& field) {
+  if (n.is_string()) return make_study_method(r, r.string(n, field), field, std::nullopt, field);
+  const toml::table* t = n.as_table();
+  if (t == nullptr) {
+    r.fail(field, std::string("must be a method name or a table {method, model} (got ") + type_of(n) + ")");
+  }
+  r.check_keys(*t, field + ".", kMethodKeys);
+  const toml::node* m = t->get("method");
+  if (m == nullptr) r.fail(field + ".method", "is required (a method name; see 'lgvi-testbed simulate --help')");
+  std::optional<std::string> model;
+  if (const toml::node* mo = t->get("model")) model = r.string(*mo, field + ".model");
+  return make_study_method(r, r.string(*m, field + ".method"), field + ".method", model, field + ".model");
+}
+
+Reference read_reference(const StudyReader& r) {
+  Reference ref;
+  const auto [node, field] = r.get("reference");
+  ref.field = field;
+  if (node == nullptr) return ref;
+  const auto kind_of = [&](const std::string& text, const std::string& f, bool table) {
+    if (text == "none") return Reference::Kind::None;
+    if (text == "exact") return Reference::Kind::Exact;
+    if (table && text == "run") return Reference::Kind::Run;
+    if (table && text == "exact-or-run") return Reference::Kind::ExactOrRun;
+    r.fail(f, "unknown reference '" + text + "' (expected " +
+                  (table ? "\"run\", \"exact-or-run\", \"exact\" or \"none\"" : "\"exact\", \"none\" or a table {method, h | steps | rtol}") +
+                  ")");
+  };
+  if (node->is_string()) {
+    ref.kind = kind_of(r.string(*node, field), field, false);
+    return ref;
+  }
+  const toml::table* t = node->as_table();
+  if (t == nullptr) r.fail(field, std::string("must be \"exact\", \"none\" or a table (got ") + type_of(*node) + ")");
+  r.check_keys(*t, field + ".", kReferenceKeys);
+  ref.kind = Reference::Kind::Run;
+  if (const toml::node* k = t->get("kind")) ref.kind = kind_of(r.string(*k, field + ".kind"), field + ".kind", true);
+  const bool runs = ref.kind == Reference::Kind::Run || ref.kind == Reference::Kind::ExactOrRun;
+  if (!runs) {
+    for (const char* key : {"method", "model", "h", "steps", "rtol"}) {
+      if (t->get(key) != nullptr) r.fail(field + "." + key, "applies to a reference run only (kind \"run\" or \"exact-or-run\")");
+    }
+    return ref;
+  }
+  const toml::node* m = t->get("method");
+  if (m == nullptr) r.fail(field + ".method", "is required (the method of the reference run)");
+  std::optional<std::string> model;
+  if (const toml::node* mo = t->get("model")) model = r.string(*mo, field + ".model");
+  const MethodSpec spec =
+      make_study_method(r, r.string(*m, field + ".method"), field + ".method", model, field + ".model");
+  ref.method = spec.method;
+  ref.options = spec.options();
+  const toml::node* h = t->get("h");
+  const toml::node* steps = t->get("steps");
+  const toml::node* rtol = t->get("rtol");
+  if (spec.fixed_step()) {
+    if (rtol != nullptr) r.fail(field + ".rtol", "applies to an adaptive method; " + spec.method + " steps with h or steps");
+    if (h != nullptr && steps != nullptr) r.fail(field + ".steps", "give h or steps, not both");
+    if (h == nullptr && steps == nullptr) r.fail(field + ".h", "is required for the fixed-step " + spec.method + " (or steps)");
+    if (h != nullptr) ref.h = r.positive(*h, field + ".h");
+    if (steps != nullptr) ref.steps = r.integer(*steps, field + ".steps", 1);
+  } else {
+    if (h != nullptr || steps != nullptr) {
+      r.fail(field + (h != nullptr ? ".h" : ".steps"), "applies to a fixed-step method; " + spec.method + " takes rtol");
+    }
+    if (rtol == nullptr) r.fail(field + ".rtol", "is required for the adaptive " + spec.method);
+    const double x = r.positive(*rtol, field + ".rtol");
+    if (x > kMaxRtol) r.fail(field + ".rtol", "must be at most 0.1 (got " + number_text(x) + ")");
+    ref.options.rtol = x;
+  }
+  return ref;
+}
+
+/// Where a scene argument of the study points: a path (contains '/' or ends in .toml), relative
+/// to the study file's directory, or a name in the scenes directory.
+std::string scene_argument(const std::string& arg, const fs::path& study_file) {
+  const bool is_path = arg.find('/') != std::string::npos || (arg.size() > 5 && arg.ends_with(".toml"));
+  if (!is_path) return arg;
+  fs::path p(arg);
+  if (p.is_relative()) p = (study_file.parent_path() / p).lexically_normal();
+  std::string s = p.string();
+  // A path without a '/' (study in the current directory) must still read as a path.
+  if (s.find('/') == std::string::npos) s = "./" + s;
+  return s;
+}
+
+SceneEntry read_scene(const StudyReader& r, const toml::node& n, const std::string& field, const fs::path& study_file,
+                      const fs::path& scenes_dir) {
+  SceneEntry e;
+  e.field = field;
+  const toml::table* t = n.as_table();
+  std::string arg;
+  std::string arg_field = field;
+  if (n.is_string()) {
+    arg = r.string(n, field);
+  } else if (t != nullptr) {
+    r.check_keys(*t, field + ".", kSceneKeys);
+    const toml::node* s = t->get("scene");
+    if (s == nullptr) r.fail(field + ".scene", "is required (a scene name or the path of a scene file)");
+    arg_field = field + ".scene";
+    arg = r.string(*s, arg_field);
+  } else {
+    r.fail(field, std::string("must be a scene name, a path or a table {scene, horizons, h, steps, tolerances} (got ") +
+                      type_of(n) + ")");
+  }
+  if (arg.empty()) r.fail(arg_field, "is empty (a scene name or the path of a scene file)");
+  e.arg = scene_argument(arg, study_file);
+  fs::path file;
+  try {
+    file = resolve_scene(e.arg, scenes_dir);
+  } catch (const SceneError& err) {
+    r.fail(arg_field, "'" + arg + "': " + err.reason());
+  }
+  try {
+    e.scene.emplace(load_scene(file));
+  } catch (const SceneError& err) {
+    r.fail(arg_field, err.what());  // "SCENE_FILE: FIELD: reason" of the scene file itself
+  }
+  e.name = e.scene->name;
+  if (t != nullptr) {
+    if (const toml::node* h = t->get("horizons")) {
+      e.horizons_field = field + ".horizons";
+      e.horizons = r.positive_list(*h, e.horizons_field);
+    }
+    e.fixed = read_fixed_sweep(r, t->get("h"), field + ".h", t->get("steps"), field + ".steps");
+    if (const toml::node* tol = t->get("tolerances")) {
+      e.tolerances_field = field + ".tolerances";
+      e.tolerances = r.positive_list(*tol, e.tolerances_field, kMaxRtol);
+    }
+  }
+  return e;
+}
+
+/// "%g" of a step (case ids).
+std::string tag_g(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
+/// "%.0e" of a tolerance (case ids).
+std::string tag_e(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.0e", x);
+  return buf;
+}
+
+bool has(const std::vector<std::string>& v, std::string_view x) { return std::find(v.begin(), v.end(), x) != v.end(); }
+
+/// A metric's summary column, its axis label and its name in titles and file names.
+struct MetricView {
+  const char* metric;
+  const char* column;
+  const char* ylabel;
+  const char* what;
+  const char* file;
+};
+constexpr MetricView kMetricViews[] = {
+    {"final-error", "final_error", "final-state error (dimensionless)", "final-state error", "error"},
+    {"energy", "max_energy_error_relative", "max |E - E_0| / |E_0|", "max energy error", "energy"},
+    {"momentum", "max_momentum_drift_absolute", "max |m - m_0| (momentum unit)", "max momentum-map error", "momentum"},
+    {"orthogonality", "max_orthogonality_error", "max ||R^T R - I||_F", "max orthogonality error", "orthogonality"},
+};
+
+/// Levels of the cheapest-method tables.
+const std::vector<double> kLevels = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+
+/// Per group (scene and horizon): each metric against integrator time (metric "time") and
+/// against evaluations, log-log, one curve per method; a table of the cheapest method per level
+/// of each error metric.
+SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics) {
+  return [name, metrics](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
+    std::vector<fs::path> files;
+    const auto groups = suites::by_group(rows);
+    const bool timed = has(metrics, "time");
+    const std::string time_label = "integrator wall time per run [s] (min of repeated serial runs)";
+    const std::string evaluations_label = "evaluations (baselines: RHS calls; LGVI: substeps)";
+    for (const auto& [group, members] : groups) {
+      const SummaryRow& first = *members.front();
+      const std::string horizon = "T = " + first.text("t_final");
+      for (const MetricView& m : kMetricViews) {
+        if (!has(metrics, m.metric)) continue;
+        std::string title = group + ": " + m.what + " over " + horizon + " vs cost";
+        if (std::string_view(m.metric) == "final-error") title += " (reference: " + first.text("reference") + ")";
+        std::vector<std::pair<std::string, std::string>> axes;
+        if (timed) axes.emplace_back("integrator_seconds_min", "time");
+        axes.emplace_back("evaluations", "evaluations");
+        for (const auto& [x, suffix] : axes) {
+          const fs::path png = suites::plot_xy(ctx, group + "-" + m.file + "-" + suffix + ".png", title,
+                                               x == "evaluations" ? evaluations_label : time_label, m.ylabel,
+                                               suites::curves_by_label(members, x, m.column));
+          if (!png.empty()) files.push_back(png);
+        }
+      }
+    }
+    std::string table = "# " + name + ": cheapest method per accuracy level\n\n"
+                        "Per scene and horizon, among the completed runs whose error is at most the level: the one "
+                        "with the least integrator time per run (wall time excluding recording, the minimum over "
+                        "repeated serial runs; only with the metric \"time\") and the one with the fewest "
+                        "evaluations (RHS calls for the baselines, substeps for the LGVI). Errors are maxima over "
+                        "the written samples; the final-state error is against the reference named in "
+                        "summary.csv.\n";
+    bool any = false;
+    for (const MetricView& m : kMetricViews) {
+      if (!has(metrics, m.metric) || std::string_view(m.metric) == "orthogonality") continue;
+      table += std::string("\n## ") + m.what + "\n\n" + suites::cheapest_table(groups, m.column, m.what, kLevels);
+      any = true;
+    }
+    if (any) files.push_back(suites::write_text_file(ctx, name + "-table.md", table));
+    return files;
+  };
+}
+
+/// Reads at most kMaxSceneBytes + 1 bytes of the file. Throws SceneError.
+std::string read_study_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::error_code ec;
+  if (!in || fs::is_directory(file, ec)) {
+    const int err = errno;
+    throw SceneError(file.string(), "", std::string("cannot read the study file: ") +
+                                            (fs::is_directory(file, ec) ? "is a directory" : std::strerror(err)));
+  }
+  std::string text(kMaxSceneBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw SceneError(file.string(), "", "cannot read the study file: " + std::string(std::strerror(errno)));
+  return text;
+}
+
+}  // namespace
+
+fs::path default_studies_dir() { return data_dir("studies", "experiments/studies"); }
+
+Suite load_study(const fs::path& file, const SuiteParams& params) {
+  return parse_study(read_study_file(file), file, params);
+}
+
+Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteParams& params) {
+  const std::string file_name = file.string();
+  check_toml_text(toml_text, file_name, "study");
+  toml::table doc;
+  try {
+    doc = toml::parse(toml_text, std::string_view(file_name));
+  } catch (const toml::parse_error& e) {
+    const auto& begin = e.source().begin;
+    throw SceneError(file_name, "line " + std::to_string(begin.line) + ", column " + std::to_string(begin.column),
+                     std::string(e.description()));
+  }
+  const StudyReader top(file_name, doc, nullptr);
+  top.check_keys(doc, "", kTopKeys);
+  const toml::table* quick = nullptr;
+  if (const toml::node* q = doc.get("quick")) {
+    quick = q->as_table();
+    if (quick == nullptr) top.fail("quick", std::string("must be a table (got ") + type_of(*q) + ")");
+    top.check_keys(*quick, "quick.", kQuickKeys);
+  }
+  const StudyReader r(file_name, doc, params.quick ? quick : nullptr);
+
+  Suite s;
+  s.name = file.stem().string();
+  if (const toml::node* n = doc.get("name")) s.name = r.string(*n, "name");
+  if (s.name.empty() || s.name.find_first_of("/\\\n\r\t") != std::string::npos) {
+    r.fail("name", "must be a non-empty name without '/' or control characters (got '" + s.name + "')");
+  }
+  if (const toml::node* n = doc.get("description")) s.description = r.string(*n, "description");
+
+  // Methods.
+  std::vector<MethodSpec> fixed_methods;
+  std::vector<MethodSpec> adaptive_methods;
+  {
+    const auto [node, field] = r.get("methods");
+    if (node == nullptr) r.fail("methods", "is required (a list of method names, e.g. [\"lgvi\", \"cvode-bdf\"])");
+    const toml::array& a = r.array(*node, field);
+    std::set<std::string> seen;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::string f = field + "[" + std::to_string(i) + "]";
+      MethodSpec m = read_method(r, *a.get(i), f);
+      if (!seen.insert(m.id()).second) r.fail(f, "lists " + m.id() + " twice");
+      (m.fixed_step() ? fixed_methods : adaptive_methods).push_back(std::move(m));
+    }
+  }
+
+  // Reference and metrics.
+  const Reference reference = read_reference(r);
+  std::vector<std::string> metrics;
+  {
+    const auto [node, field] = r.get("metrics");
+    if (node == nullptr) {
+      for (const std::string_view m : kStudyMetrics) {
+        if (m != "final-error" || reference.kind != Reference::Kind::None) metrics.emplace_back(m);
+      }
+    } else {
+      const toml::array& a = r.array(*node, field);
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        const std::string f = field + "[" + std::to_string(i) + "]";
+        const std::string m = r.string(*a.get(i), f);
+        if (std::find(std::begin(kStudyMetrics), std::end(kStudyMetrics), m) == std::end(kStudyMetrics)) {
+          r.fail(f, "unknown metric '" + m + "' (expected one of: " + join(kStudyMetrics) + ")");
+        }
+        if (has(metrics, m)) r.fail(f, "lists '" + m + "' twice");
+        metrics.push_back(m);
+      }
+      if (has(metrics, "final-error") && reference.kind == Reference::Kind::None) {
+        r.fail(field, "final-error needs a reference (reference is \"none\": give \"exact\" or a reference run)");
+      }
+    }
+  }
+
+  // Sweeps and sampling shared by the scenes.
+  const auto get_list = [&](std::string_view key, std::optional<double> max) {
+    const auto [node, field] = r.get(key);
+    return std::make_pair(node == nullptr ? std::vector<double>{} : r.positive_list(*node, field, max), field);
+  };
+  const auto [horizons, horizons_field] = get_list("horizons", std::nullopt);
+  const auto [tolerances, tolerances_field] = get_list("tolerances", kMaxRtol);
+  const auto h_value = r.get("h");
+  const auto steps_value = r.get("steps");
+  const FixedSweep fixed = read_fixed_sweep(r, h_value.node, h_value.field, steps_value.node, steps_value.field);
+  const auto integer_key = [&](std::string_view key, std::int64_t fallback, std::int64_t min) {
+    const auto [node, field] = r.get(key);
+    return node == nullptr ? fallback : r.integer(*node, field, min);
+  };
+  const std::int64_t samples = integer_key("samples", 100, 1);
+  const std::int64_t adaptive_samples = integer_key("adaptive_samples", samples, 1);
+  const auto probes = static_cast<std::size_t>(integer_key("probes", 0, 0));
+
+  // Scenes, each loaded (its own errors name its file).
+  std::vector<SceneEntry> scenes;
+  {
+    const auto [node, field] = r.get("scenes");
+    if (node == nullptr) r.fail("scenes", "is required (a list of scene names or paths, e.g. [\"free-body\"])");
+    const toml::array& a = r.array(*node, field);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      scenes.push_back(read_scene(r, *a.get(i), field + "[" + std::to_string(i) + "]", file, params.scenes_dir));
+    }
+  }
+  // The files the cases come from, in the resume fingerprint (suite_journal.hpp): this file's
+  // bytes, each scene file's bytes and those of the files the scenes read (control samples),
+  // named by file name (where they lie is in this file and the scenes).
+  s.inputs.push_back({"the study file " + file.filename().string(), text_fnv1a64(std::string(toml_text))});
+  const auto add_input = [&](const SuiteInput& in) {
+    const bool seen = std::any_of(s.inputs.begin(), s.inputs.end(), [&](const SuiteInput& x) {
+      return x.what == in.what && x.digest == in.digest;
+    });
+    if (!seen) s.inputs.push_back(in);
+  };
+  for (const SceneEntry& e : scenes) {
+    add_input({"the scene file " + e.scene->file.filename().string(), file_fnv1a64(e.scene->file)});
+    for (const fs::path& p : e.scene->inputs) {
+      add_input({"the control samples file " + p.filename().string(), file_fnv1a64(p)});
+    }
+  }
+
+  if (!adaptive_methods.empty()) {
+    for (const SceneEntry& e : scenes) {
+      if (e.tolerances.empty() && tolerances.empty()) {
+        r.fail("tolerances", "is required: the study has adaptive methods (" + adaptive_methods.front().method +
+                                 "); give rtol values, e.g. [1e-6, 1e-8, 1e-10]");
+      }
+    }
+  }
+
+  s.columns = suites::simulation_columns();
+  const bool timed = has(metrics, "time");
+  if (timed) s.columns.insert(s.columns.end(), suites::timing_columns().begin(), suites::timing_columns().end());
+  if (has(metrics, "momentum")) s.columns.push_back("momentum_map");
+
+  std::set<std::string> ids;
+  for (const SceneEntry& e : scenes) {
+    if (reference.kind == Reference::Kind::Exact) {
+      std::string why_not;
+      if (!ExactReference::of(e.scene->model, &why_not)) {
+        r.fail(reference.field, "exact: scene '" + e.name + "' (" + e.scene->system() + ") has no exact solution (" +
+                                    why_not + "); give a reference run, kind \"exact-or-run\", or \"none\"");
+      }
+    }
+    const std::vector<double>& scene_horizons = !e.horizons.empty() ? e.horizons
+                                                : !horizons.empty() ? horizons
+                                                                    : std::vector<double>{e.scene->horizon.t_final};
+    const std::string& scene_horizons_field = !e.horizons.empty() ? e.horizons_field : horizons_field;
+    const FixedSweep& sweep = !e.fixed.field.empty() ? e.fixed : fixed;
+    const std::vector<double>& scene_tolerances = !e.tolerances.empty() ? e.tolerances : tolerances;
+
+    for (const double T : scene_horizons) {
+      const std::string group = scene_horizons.size() > 1 ? e.name + "-T" + tag_g(T) : e.name;
+      const std::string id_prefix = group + "-";
+      // A horizon and step the harness accepts (a whole number of steps), named in the study.
+      const auto horizon_of = [&](double h, const std::string& field) {
+        try {
+          return make_horizon(h, T, 1, e.scene->last_step);
+        } catch (const InvalidInput& err) {
+          r.fail(field, "horizon T = " + number_text(T) + " of scene '" + e.name + "' with h = " + number_text(h) +
+                            ": " + reason_of(err) +
+                            (field == scene_horizons_field ? "" : " (horizons from " + (scene_horizons_field.empty() ? std::string("the scene file") : scene_horizons_field) + ")"));
+        }
+      };
+
+      std::shared_ptr<const ReferenceRun> ref;
+      if (reference.kind != Reference::Kind::None) {
+        SimulateSpec spec;
+        spec.scene = e.arg;
+        spec.overrides.t_final = T;
+        spec.method = reference.method.empty() ? "lgvi" : reference.method;
+        spec.options = reference.options;
+        if (reference.kind == Reference::Kind::Exact || spec.options.rtol) {
+          spec.overrides.h = T;  // one output interval: only the final state is compared
+          spec.overrides.output_every = 1;
+        } else {
+          const double h = reference.steps ? T / static_cast<double>(*reference.steps) : *reference.h;
+          const Horizon hz = horizon_of(h, reference.field + (reference.steps ? ".steps" : ".h"));
+          spec.overrides.h = h;
+          spec.overrides.output_every = static_cast<std::int64_t>(hz.steps);
+        }
+        ref = reference.kind == Reference::Kind::Run ? std::make_shared<const ReferenceRun>(spec)
+                                                     : ReferenceRun::exact_or_run(spec, params.scenes_dir);
+      }
+
+      // The fixed steps of this horizon with their case-id tags, largest h first for the probes.
+      struct Step {
+        double h;
+        std::size_t steps;
+        std::string tag;
+      };
+      std::vector<Step> steps;
+      if (!sweep.steps.empty()) {
+        for (const std::int64_t n : sweep.steps) {
+          const double h = T / static_cast<double>(n);
+          (void)horizon_of(h, sweep.field);
+          steps.push_back({h, static_cast<std::size_t>(n), "n" + std::to_string(n)});
+        }
+      } else {
+        const std::vector<double> hs = !sweep.h.empty() ? sweep.h : std::vector<double>{e.scene->horizon.h};
+        const std::string field = !sweep.h.empty() ? sweep.field : scene_horizons_field;
+        for (const double h : hs) {
+          const Horizon hz = horizon_of(h, field.empty() ? e.field : field);
+          steps.push_back({h, hz.steps, "h" + tag_g(h)});
+        }
+      }
+      std::vector<double> by_size;
+      for (const Step& st : steps) by_size.push_back(st.h);
+      std::sort(by_size.rbegin(), by_size.rend());
+      const auto is_probe = [&](double h) {
+        const auto rank = static_cast<std::size_t>(std::find(by_size.begin(), by_size.end(), h) - by_size.begin());
+        return rank < probes;
+      };
+
+      const auto add = [&](SuiteCase c) {
+        if (!ids.insert(c.id).second) {
+          r.fail(e.field, "makes the case '" + c.id + "' twice (a scene and horizon listed twice?)");
+        }
+        for (Field& f : c.labels) {
+          if (f.key == "scene") f.value = e.name;
+        }
+        c.group = group;
+        s.cases.push_back(std::move(c));
+      };
+      for (const MethodSpec& m : fixed_methods) {
+        for (const Step& st : steps) {
+          SimulateSpec spec;
+          spec.scene = e.arg;
+          spec.overrides.t_final = T;
+          spec.overrides.h = st.h;
+          spec.overrides.output_every =
+              static_cast<std::int64_t>(std::max<std::size_t>(1, st.steps / static_cast<std::size_t>(samples)));
+          spec.timed = timed;
+          add(suites::simulate_case(id_prefix + m.id() + "-" + st.tag, group, spec, m,
+                                    is_probe(st.h) ? Expectation::Either : Expectation::Complete, ref));
+        }
+      }
+      for (MethodSpec m : adaptive_methods) {
+        for (const double rtol : scene_tolerances) {
+          m.rtol = rtol;
+          SimulateSpec spec;
+          spec.scene = e.arg;
+          spec.overrides.t_final = T;
+          spec.overrides.h = T / static_cast<double>(adaptive_samples);  // the output grid
+          spec.overrides.output_every = 1;
+          spec.timed = timed;
+          add(suites::simulate_case(id_prefix + m.id() + "-rtol" + tag_e(rtol), group, spec, m, Expectation::Complete,
+                                    ref));
+        }
+      }
+    }
+  }
+  if (s.cases.empty()) r.fail("methods", "the study has no cases");
+  s.render = study_renderer(s.name, metrics);
+  return s;
+}
+
+}  // namespace lgvi::experiments

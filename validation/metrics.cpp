@@ -1,0 +1,654 @@
+// The metrics of `lgvi-testbed validate` (validation/validate.hpp states the kinds' rules).
+// Every metric is computed here by running the project's own code: scenes through the methods
+// of the harness (the same code path as `simulate`), the cases of the sensitivity and shooting
+// suites, and the `ocp` command on the paper's four examples. Nothing is switched on the
+// system: scenes are loaded by name and compared through their Sample (the bindings' distance).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <system_error>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "experiments/systems/exact_reference.hpp"
+#include "experiments/methods/method.hpp"
+#include "experiments/ocp/ocp_command.hpp"
+#include "experiments/input/paper_values.hpp"
+#include "experiments/methods/recorder.hpp"
+#include "experiments/scene/scene.hpp"
+#include "experiments/suites/suite.hpp"
+#include "experiments/suites/jobs.hpp"
+#include "experiments/suites/common.hpp"
+#include "experiments/systems/systems.hpp"
+#include "validation/validate.hpp"
+
+namespace lgvi::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string format(const char* fmt, double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, x);
+  return buf;
+}
+
+/// A method of the harness (the suites' MethodSpec: name, model, rtol) as the metrics name and
+/// run it.
+struct MethodUnderTest {
+  std::string label;             ///< metric name component: "lgvi", "lgvi-printed", "odeint-rk4-quaternion"
+  suites::MethodSpec spec;
+  std::optional<LgviForm> form;  ///< LGVI form override
+  /// Order metrics: multiple of the base step count. yoshida6's error constant is ~10^3 times
+  /// kahan-li6's (its substeps reach 1.7 h against 0.4 h): it needs twice the steps to be
+  /// in its asymptotic regime.
+  std::size_t step_factor = 1;
+
+  /// Nominal order (fixed-step methods; 0 for the adaptive ones): the registered method's, 1 for
+  /// the printed LGVI form (its end-of-step impulse).
+  double order() const { return form == LgviForm::Printed ? 1.0 : static_cast<double>(spec.info->order); }
+};
+
+std::unique_ptr<Method> make(const MethodUnderTest& m, const ValidateOptions& options) {
+  MethodOptions o = m.spec.options();
+  if (m.spec.info->takes_rotation_update) o.rotation_update = options.rotation;
+  return make_method(m.spec.method, o);
+}
+
+struct Run {
+  Stats stats;
+  Diagnostics diagnostics;
+  Sample last;
+  double seconds = 0.0;
+};
+
+/// Runs a scene with a method, recording every output_every-th step into the diagnostics only.
+Run run_scene(const Scene& scene, const Method& method) {
+  Recorder recorder(scene.model, scene.horizon.output_every, nullptr, method.records_quaternion_norm());
+  const auto t0 = Clock::now();
+  Run r;
+  r.stats = method.run(scene, recorder);
+  recorder.finish();
+  r.seconds = seconds_since(t0);
+  r.diagnostics = recorder.diagnostics();
+  r.last = recorder.last();
+  return r;
+}
+
+Scene scene_with(const ValidateOptions& options, const std::string& name, double h, double t_final,
+                 std::int64_t every, std::optional<LgviForm> form = std::nullopt) {
+  SceneOverrides o;
+  o.h = h;
+  o.t_final = t_final;
+  o.output_every = every;
+  o.form = form;
+  return load_scene(options.scenes_dir / (name + ".toml"), o);
+}
+
+// ---- order --------------------------------------------------------------------------------
+// Observed order from the final states at N0, 2 N0, 4 N0, 8 N0 steps over T: the differences
+// d_j = |y_{2^j N0} - y_{2^(j+1) N0}| decay as C h^p, and p is the least-squares slope of
+// log2 d_j against j. No reference solution is needed (d_j is the error of the coarser run to
+// O(2^-p)). N0 is chosen per nominal order so that every d_j lies between the asymptotic regime
+// (h |Omega| <~ 0.1 for order 2; the composed methods' substeps reach 1.7 h, so orders 4 and 6
+// start at h |Omega| ~ 0.1-0.2, where yoshida6 at twice that step already leaves the rotation
+// update's domain on the connected bodies) and the round-off floor (the finest differences of
+// order 6 are ~1e-11, 100x above it). The detail column prints the differences.
+
+struct OrderScene {
+  const char* scene;
+  double t_final;
+  std::size_t step_factor;  ///< multiplies base_steps: 2 for a fast scene
+};
+// The five systems, each with a control where its scene has one (the control's impulses are
+// part of the order: the printed form's end-of-step impulse is first order). The pendulum
+// tumbles at |Omega| ~ 7 rad/s and the connected bodies' coupling makes their error constants
+// large: twice the steps of the other scenes.
+constexpr OrderScene kOrderScenes[] = {
+    {"free-body", 1.0, 1}, {"pendulum-controlled", 1.0, 2}, {"dumbbell", 2.0, 1}, {"cart-pendulum", 1.0, 1},
+    {"connected-bodies", 1.0, 2}};
+
+std::size_t base_steps(double order) { return order <= 1.0 ? 100 : order <= 2.0 ? 50 : order <= 4.0 ? 32 : 16; }
+
+/// The methods on the group that are not variational (a Lie group method run by the one-step
+/// driver): every conservation and exact roster takes them beside its deliberate picks.
+std::vector<MethodUnderTest> other_group_methods() {
+  std::vector<MethodUnderTest> m;
+  for (const MethodInfo* info : methods_where([](const MethodInfo& i) { return i.on_group() && !i.variational; })) {
+    m.push_back({info->name, {info->name}, LgviForm::Symmetric});
+  }
+  return m;
+}
+
+/// Every fixed-step method on the group (by trait; the one taking the scene's form in both
+/// forms), then fixed-step baselines picked by name.
+std::vector<MethodUnderTest> order_methods() {
+  std::vector<MethodUnderTest> m;
+  for (const MethodInfo* info : methods_where([](const MethodInfo& i) { return i.on_group() && i.fixed_step(); })) {
+    // yoshida6's error constant is ~10^3 times kahan-li6's (its substeps reach 1.7 h against
+    // 0.4 h): it needs twice the steps to be in its asymptotic regime.
+    const std::size_t step_factor = info->name == "lgvi-yoshida6" ? 2 : 1;
+    m.push_back({info->name, {info->name}, LgviForm::Symmetric, step_factor});
+    if (info->takes_form) m.push_back({info->name + "-printed", {info->name}, LgviForm::Printed});
+  }
+  for (MethodUnderTest picked : std::vector<MethodUnderTest>{
+           {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}},
+           {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}},
+           {"gsl-rk4imp-quaternion", {"gsl-rk4imp", "quaternion"}, {}},
+       }) {
+    m.push_back(std::move(picked));
+  }
+  return m;
+}
+
+/// The nominal order of the printed LGVI form on a scene (its binding's printed_order).
+double printed_order(const char* scene, const ValidateOptions& options) {
+  const Scene s = load_scene(options.scenes_dir / (std::string(scene) + ".toml"));
+  return visit_binding(s.model, [](auto binding, const auto& m) { return double(decltype(binding)::printed_order(m)); });
+}
+
+void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
+  for (const OrderScene& os : kOrderScenes) {
+    for (const MethodUnderTest& mut : order_methods()) {
+      const auto t0 = Clock::now();
+      const std::unique_ptr<Method> method = make(mut, options);
+      const std::size_t n0 = base_steps(mut.order()) * os.step_factor * mut.step_factor;
+      // Nominal order: the printed form is first order where a potential or a control acts at
+      // the step's end; without either (the free body and the cart scene have no control, the
+      // free body no potential, the cart's potential is split in eq. 29 already) it is the
+      // symmetric form (the system binding's printed_order).
+      const double nominal = mut.form == LgviForm::Printed ? printed_order(os.scene, options) : mut.order();
+      std::vector<Sample> finals;
+      std::optional<Model> model;  // the scene's system, for the distance of its states
+      bool ok = true;
+      for (int j = 0; j < 4 && ok; ++j) {
+        const std::size_t n = n0 << j;
+        const Scene scene = scene_with(options, os.scene, os.t_final / static_cast<double>(n), os.t_final,
+                                       static_cast<std::int64_t>(n), mut.form);
+        const Run r = run_scene(scene, *method);
+        ok = r.stats.ok();
+        finals.push_back(r.last);
+        model = scene.model;
+      }
+      double p = std::numeric_limits<double>::quiet_NaN();
+      std::string detail;
+      if (ok) {
+        // Least-squares slope of log2 d_j over j = 0, 1, 2: (l2 - l0) / 2.
+        double l[3];
+        for (int j = 0; j < 3; ++j) l[j] = std::log2(state_distance(*model, finals[j], finals[j + 1]));
+        p = -(l[2] - l[0]) / 2.0;
+        detail = std::string(os.scene) + ", T = " + format("%g", os.t_final) + ", N = " + std::to_string(n0) +
+                 ".." + std::to_string(8 * n0) + " steps; differences " + format("%.2g", std::exp2(l[0])) +
+                 " .. " + format("%.2g", std::exp2(l[2]));
+      } else {
+        detail = std::string(os.scene) + ": a run failed";
+      }
+      Metric m;
+      m.name = "order/" + std::string(os.scene) + "/" + mut.label;
+      m.kind = MetricKind::Order;
+      m.value = p;
+      m.nominal = nominal;
+      m.seconds = seconds_since(t0);
+      m.detail = detail;
+      out.push_back(m);
+    }
+  }
+}
+
+// ---- conservation: energy, momentum map, orthogonality, quaternion norm, Newton iterations --
+// Each scene at its own h over a fixed number of steps (quick 10^4, full 10^5), every step
+// recorded into the diagnostics. A quantity a method keeps to round-off (the LGVI's momentum
+// maps and orthogonality, a renormalized quaternion's norm) is gated as round-off with the
+// floor eps sqrt(steps) (a random walk of one rounding per step); the rest as truncation.
+// Controls are dropped (each system's binding; only the connected bodies' scene has one): its work changes the energy
+// by 10-60x the initial energy over the horizon, so an "energy error" would measure the control
+// along a chaotic trajectory, not the integrator, and move with every round-off change.
+
+constexpr const char* kConservationScenes[] = {"free-body", "pendulum", "dumbbell", "cart-pendulum",
+                                               "connected-bodies"};
+
+/// The LGVI in both forms and at order 4, the other methods on the group (by trait), and
+/// baselines picked by name.
+std::vector<MethodUnderTest> conservation_methods() {
+  std::vector<MethodUnderTest> m = {
+      {"lgvi", {"lgvi"}, LgviForm::Symmetric},
+      {"lgvi-printed", {"lgvi"}, LgviForm::Printed},
+      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric},
+  };
+  for (MethodUnderTest& other : other_group_methods()) m.push_back(std::move(other));
+  for (MethodUnderTest picked : std::vector<MethodUnderTest>{
+           {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}},
+           {"odeint-rk4-quaternion-renormalized", {"odeint-rk4", "quaternion-renormalized"}, {}},
+           {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}},
+           {"cvode-bdf-quaternion-rtol1e-8", {"cvode-bdf", "quaternion", 1e-8}, {}},
+           {"gsl-rk8pd-quaternion-rtol1e-8", {"gsl-rk8pd", "quaternion", 1e-8}, {}},
+           {"odeint-dopri5-matrix-rtol1e-8", {"odeint-dopri5", "matrix", 1e-8}, {}},
+       }) {
+    m.push_back(std::move(picked));
+  }
+  return m;
+}
+
+void conservation_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
+  const std::size_t steps = options.quick ? 10'000 : 100'000;
+  for (const char* scene_name : kConservationScenes) {
+    const Scene base = load_scene(options.scenes_dir / (std::string(scene_name) + ".toml"));
+    const double h = base.horizon.h;
+    for (const MethodUnderTest& mut : conservation_methods()) {
+      const std::unique_ptr<Method> method = make(mut, options);
+      Scene scene = scene_with(options, scene_name, h, h * static_cast<double>(steps), 1, mut.form);
+      visit_binding(scene.model, [](auto binding, auto& m) { decltype(binding)::drop_controls(m); });
+      const Run r = run_scene(scene, *method);
+      const Diagnostics& d = r.diagnostics;
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      const bool ok = r.stats.ok();
+      const double floor = kEps * std::sqrt(static_cast<double>(steps));
+      const std::string subject = std::string(scene_name) + "/" + mut.label;
+      const std::string detail = std::string(scene_name) + ", h = " + format("%g", h) + ", " + std::to_string(steps) +
+                                 " steps" + (mut.spec.rtol ? ", rtol = " + format("%g", *mut.spec.rtol) : std::string()) +
+                                 (ok ? "" : ": " + r.stats.brief());
+      const auto add = [&](const std::string& quantity, double value, bool kept) {
+        Metric m;
+        m.name = quantity + "/" + subject;
+        m.kind = kept ? MetricKind::RoundOff : MetricKind::Truncation;
+        m.value = ok ? value : nan;
+        m.floor = floor;
+        m.seconds = r.seconds;
+        m.detail = detail;
+        out.push_back(m);
+      };
+      add("energy", d.max_energy_error(), false);
+      const double momentum = d.momentum0_norm > 0.0 ? d.max_momentum_error / d.momentum0_norm : d.max_momentum_error;
+      add("momentum", momentum, mut.spec.info->preserves_momentum_map);
+      add("orthogonality", d.max_orthogonality_error, mut.spec.info->stays_on_group || mut.spec.model != "matrix");
+      if (d.quaternion_norm_recorded) {
+        add("quaternion-norm", d.max_quaternion_norm_error, mut.spec.model == "quaternion-renormalized");
+      }
+      if (mut.spec.info->reports_step_iterations && ok) {
+        Metric m;
+        m.name = "newton/" + subject;
+        m.kind = MetricKind::Count;
+        m.value = static_cast<double>(r.stats.newton_iterations) / static_cast<double>(r.stats.steps);
+        m.seconds = r.seconds;
+        m.detail = detail + "; mean rotation-update Newton iterations per step (max " +
+                   std::to_string(r.stats.max_newton_iterations) + ")";
+        out.push_back(m);
+      }
+    }
+  }
+}
+
+// ---- exact: errors against the closed-form solutions ---------------------------------------
+// The free body (Celledoni et al. 2008) and the Lagrange top have exact solutions
+// (baselines/exact/, experiments/systems/exact_reference.hpp): each method's final-state error against
+// them (final_state_error: ||R - R_ex||_F and |Omega - Omega_ex| / |Omega_ex|) at the scene's
+// step over a fixed horizon, no finer run needed. Truncation kind, with floor eps N: each of the
+// N steps rounds the phase by ~eps, and a reordering of operations moves that share of the error
+// (the exact solutions themselves hold 1e-15, test_exact).
+
+struct ExactScene {
+  const char* scene;
+  double quick_t_final;
+  double full_t_final;
+};
+// Free body: 10 s = 2000 steps of 0.005 (quick), the scene's 50 s (full); top: 2.5 s = 3.3
+// nutation periods at h = 1e-3 (quick), the scene's 10 s (full).
+constexpr ExactScene kExactScenes[] = {{"free-body", 10.0, 50.0}, {"lagrange-top", 2.5, 10.0}};
+
+/// The LGVI at orders 2, 4, 6, the other methods on the group (by trait), and baselines picked
+/// by name.
+std::vector<MethodUnderTest> exact_methods() {
+  std::vector<MethodUnderTest> m = {
+      {"lgvi", {"lgvi"}, LgviForm::Symmetric},
+      {"lgvi-yoshida4", {"lgvi-yoshida4"}, LgviForm::Symmetric},
+      {"lgvi-kahan-li6", {"lgvi-kahan-li6"}, LgviForm::Symmetric},
+  };
+  for (MethodUnderTest& other : other_group_methods()) m.push_back(std::move(other));
+  for (MethodUnderTest picked : std::vector<MethodUnderTest>{
+      {"odeint-rk4-quaternion", {"odeint-rk4", "quaternion"}, {}},
+      {"odeint-rk4-matrix", {"odeint-rk4", "matrix"}, {}},
+      {"gsl-rk4imp-quaternion", {"gsl-rk4imp", "quaternion"}, {}},
+      {"cvode-bdf-quaternion-rtol1e-8", {"cvode-bdf", "quaternion", 1e-8}, {}},
+      {"cvode-adams-quaternion-rtol1e-8", {"cvode-adams", "quaternion", 1e-8}, {}},
+      {"gsl-rk8pd-quaternion-rtol1e-10", {"gsl-rk8pd", "quaternion", 1e-10}, {}},
+      {"odeint-dopri5-matrix-rtol1e-8", {"odeint-dopri5", "matrix", 1e-8}, {}},
+       }) {
+    m.push_back(std::move(picked));
+  }
+  return m;
+}
+
+void exact_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
+  for (const ExactScene& es : kExactScenes) {
+    const Scene base = load_scene(options.scenes_dir / (std::string(es.scene) + ".toml"));
+    const double h = base.horizon.h;
+    const double t_final = options.quick ? es.quick_t_final : es.full_t_final;
+    const auto steps = static_cast<std::int64_t>(std::llround(t_final / h));
+    std::string why_not;
+    const std::optional<ExactReference> exact = ExactReference::of(base.model, &why_not);
+    if (!exact) throw std::logic_error("validate: scene " + std::string(es.scene) + " has no exact solution: " + why_not);
+    for (const MethodUnderTest& mut : exact_methods()) {
+      const std::unique_ptr<Method> method = make(mut, options);
+      const Scene scene = scene_with(options, es.scene, h, h * static_cast<double>(steps), steps, mut.form);
+      const Run r = run_scene(scene, *method);
+      const bool ok = r.stats.ok();
+      const Sample reference = exact->sample(r.last.t);
+      Metric m;
+      m.name = "exact/" + std::string(es.scene) + "/" + mut.label;
+      m.kind = MetricKind::Truncation;
+      m.value = ok ? final_state_error(scene.model, r.last, reference) : std::numeric_limits<double>::quiet_NaN();
+      m.floor = kEps * static_cast<double>(steps);
+      m.seconds = r.seconds;
+      m.detail = std::string(es.scene) + ", h = " + format("%g", h) + ", T = " + format("%g", t_final) +
+                 (mut.spec.rtol ? ", rtol = " + format("%g", *mut.spec.rtol) : std::string()) +
+                 "; final-state error against " + exact->description() + (ok ? "" : ": " + r.stats.brief());
+      out.push_back(m);
+    }
+  }
+}
+
+// ---- suites: the LGVI linearization and the shooting methods -------------------------------
+// The cases of the sensitivity and shooting suites (quick form), run in a scratch directory;
+// their summary fields are the metrics.
+
+struct ScratchDir {
+  fs::path path;
+  ScratchDir() {
+    path = fs::temp_directory_path() / ("lgvi-validate-" + std::to_string(::getpid()) + "-" +
+                                        std::to_string(Clock::now().time_since_epoch().count()));
+    fs::create_directories(path);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+double field_number(const Fields& fields, const std::string& key) {
+  for (const Field& f : fields) {
+    if (f.key != key) continue;
+    if (const double* d = std::get_if<double>(&f.value)) return *d;
+    if (const std::int64_t* i = std::get_if<std::int64_t>(&f.value)) return static_cast<double>(*i);
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+/// Runs the named cases of a suite (quick form); returns each case's result fields.
+std::map<std::string, JobResult> run_suite_cases(const std::string& suite_name, const std::vector<std::string>& ids,
+                                                 const ValidateOptions& options, const fs::path& scratch,
+                                                 std::map<std::string, double>& seconds) {
+  const Suite suite = make_suite(suite_name, SuiteParams{true, options.scenes_dir});
+  std::map<std::string, JobResult> results;
+  for (const std::string& id : ids) {
+    const SuiteCase* found = nullptr;
+    for (const SuiteCase& c : suite.cases) {
+      if (c.id == id) found = &c;
+    }
+    if (!found) throw std::logic_error("validate: suite " + suite_name + " has no case " + id);
+    found->job->validate(options.scenes_dir);
+    const auto t0 = Clock::now();
+    results[id] = found->job->run(JobContext{scratch, options.scenes_dir, id, "lgvi-testbed validate"});
+    seconds[id] = seconds_since(t0);
+  }
+  return results;
+}
+
+void linearization_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
+  ScratchDir scratch;
+  const char* const scenes[] = {"pendulum", "free-body"};
+  const char* const horizons[] = {"0.5", "2"};
+  const double steps[] = {0.01, 0.005, 0.0025};
+  const auto case_id = [](const char* scene, const char* T, double h) {
+    return std::string(scene) + "-T" + T + "-lgvi-h" + format("%g", h);
+  };
+  std::vector<std::string> ids;
+  for (const char* scene : scenes) {
+    for (const char* T : horizons) {
+      for (const double h : steps) ids.push_back(case_id(scene, T, h));
+    }
+  }
+  std::map<std::string, double> seconds;
+  const auto results = run_suite_cases("sensitivity", ids, options, scratch.path, seconds);
+  for (const char* scene : scenes) {
+    for (const char* T : horizons) {
+      std::vector<double> differences;
+      for (const double h : steps) {
+        const std::string id = case_id(scene, T, h);
+        const Fields& f = results.at(id).fields;
+        const std::string subject = std::string(scene) + "/T" + T + "/h" + format("%g", h);
+        // The differences' own error (truncation O(a^2) and round-off eps/a of the central
+        // differences) is what |Phi - Phi_fd| measures when the linearization is exact: gated
+        // as round-off over the differences' estimate of their own error.
+        Metric fd;
+        fd.name = "linearization/" + subject + "/vs-differences";
+        fd.kind = MetricKind::RoundOff;
+        fd.value = field_number(f, "fd_error");
+        fd.floor = field_number(f, "fd_estimate");
+        fd.seconds = seconds[id];
+        fd.detail = "LGVI transition matrix vs central differences of the flow, relative (suite sensitivity, " + id + ")";
+        out.push_back(fd);
+        Metric cont;
+        cont.name = "linearization/" + subject + "/vs-continuous";
+        cont.kind = MetricKind::Truncation;
+        cont.value = field_number(f, "continuous_difference");
+        cont.seconds = seconds[id];
+        cont.detail = "LGVI transition matrix vs CVODES at rtol 1e-12, relative (" + id + ")";
+        out.push_back(cont);
+        differences.push_back(cont.value);
+      }
+      Metric order;
+      order.name = "linearization/" + std::string(scene) + "/T" + T + "/order";
+      order.kind = MetricKind::Order;
+      order.nominal = 2.0;
+      order.value = -(std::log2(differences[2]) - std::log2(differences[0])) / 2.0;
+      order.detail = "order in h of the LGVI linearization's difference from the continuous one, h = 0.01 .. 0.0025";
+      out.push_back(order);
+    }
+  }
+}
+
+void shooting_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
+  ScratchDir scratch;
+  const PaperValues& paper = paper_values();
+  struct Case {
+    const char* id;
+    const char* label;
+    bool condition;        ///< gate the condition numbers of the shooting Jacobian
+    bool paper_condition;  ///< ... against the paper's range (sec. 3.2: the decomposed pendulum)
+  };
+  const Case cases[] = {
+      {"pendulum-discrete-symmetric-n1000-decomposed-ones", "pendulum-discrete-decomposed", true, true},
+      {"pendulum-continuous-rtol1e-10-decomposed-ones", "pendulum-continuous-decomposed", false, false},
+      {"dumbbell-discrete-printed-n100-zero", "dumbbell-discrete-n100", true, false},
+      {"cart-pendulum-direct-n200", "cart-pendulum-direct-n200", false, false},
+  };
+  std::vector<std::string> ids;
+  for (const Case& c : cases) ids.push_back(c.id);
+  std::map<std::string, double> seconds;
+  const auto results = run_suite_cases("shooting", ids, options, scratch.path, seconds);
+  for (const Case& c : cases) {
+    const Fields& f = results.at(c.id).fields;
+    const std::string base = std::string("shooting/") + c.label + "/";
+    const std::string detail = std::string("suite shooting, case ") + c.id + ": " + results.at(c.id).detail;
+    const auto add = [&](const std::string& what, MetricKind kind, double value, double floor = 0.0,
+                         std::optional<double> paper_value = std::nullopt) {
+      Metric m;
+      m.name = base + what;
+      m.kind = kind;
+      m.value = value;
+      m.floor = floor;
+      m.paper = paper_value;
+      m.seconds = seconds[c.id];
+      m.detail = detail;
+      out.push_back(m);
+    };
+    add("cost", MetricKind::Cost, field_number(f, "cost"));
+    // A converged violation is at the shooting's tolerance or below: round-off over 1e-15.
+    add("violation", MetricKind::RoundOff, field_number(f, "violation"), 1e-15);
+    add("iterations", MetricKind::Count, field_number(f, "iterations"));
+    if (c.condition) {
+      add("cond-min", MetricKind::Condition, field_number(f, "cond_min"), 0.0,
+          c.paper_condition ? std::optional<double>(paper.decomposed_condition_min) : std::nullopt);
+      add("cond-max", MetricKind::Condition, field_number(f, "cond_max"), 0.0,
+          c.paper_condition ? std::optional<double>(paper.decomposed_condition_max) : std::nullopt);
+    }
+  }
+}
+
+// ---- the paper's four optimal control examples ---------------------------------------------
+// `ocp SYSTEM` with its defaults (the table of docs/paper-examples.md), run in-process into a scratch directory
+// and read back from its summary JSON. The quick form reruns only the connected bodies'
+// converging start of the default 8-start multistart (start 6 of seed 1: the full form runs all
+// eight and gates the same optimum).
+
+constexpr int kConnectedBodiesConvergingStart = 6;
+
+void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
+  ScratchDir scratch;
+  const PaperValues& paper = paper_values();
+  // The dumbbell also by the continuation globalization (issue 17: <= 40 outer iterations on the
+  // extremal Newton-Armijo finds), as "ocp/dumbbell-continuation/...".
+  struct Run {
+    const char* system;
+    const char* globalization;  ///< "" : the command's default
+    bool quick_one_start = false;  ///< quick form: only kConnectedBodiesConvergingStart
+  };
+  for (const Run run : {Run{"pendulum", ""}, Run{"dumbbell", ""}, Run{"dumbbell", "continuation"},
+                        Run{"cart-pendulum", ""}, Run{"connected-bodies", "", true}}) {
+    const std::string system = run.system;
+    const std::string name = system + (*run.globalization ? std::string("-") + run.globalization : std::string());
+    OcpCommand cmd;
+    cmd.system = system;
+    if (*run.globalization) cmd.globalization = run.globalization;
+    cmd.out = scratch.path.string();
+    if (run.quick_one_start && options.quick) {
+      cmd.starts = 1;
+      cmd.first_start = kConnectedBodiesConvergingStart;
+    }
+    std::ostringstream log, err;
+    const auto t0 = Clock::now();
+    const int code = run_ocp_command(cmd, "lgvi-testbed validate", log, err);
+    const double seconds = seconds_since(t0);
+    const fs::path summary = ocp_output_file(scratch.path, system, "summary.json");
+    nlohmann::json j;
+    std::ifstream in(summary);
+    if (in) j = nlohmann::json::parse(in, nullptr, false);
+    // One object (older summaries: an array of one object).
+    if (j.is_array() && !j.empty()) {
+      nlohmann::json first = j[0];
+      j = std::move(first);
+    }
+    const bool read = j.is_object();
+    const auto number = [&](const char* key) {
+      if (!read || !j.contains(key) || !j[key].is_number()) return std::numeric_limits<double>::quiet_NaN();
+      return j[key].get<double>();
+    };
+    const PaperExample& example = paper.example(system);
+    const bool direct = is_direct_system(system);
+    std::string detail = "ocp " + system + (*run.globalization ? std::string(" --globalization ") + run.globalization
+                                                                : std::string()) +
+                         (cmd.first_start > 0 ? " --starts 1 --first-start " +
+                                                                      std::to_string(cmd.first_start)
+                                                                : std::string()) +
+                         ": exit " + std::to_string(code) + "; " +
+                         (read ? j.value("status_detail", j.value("status", std::string())) : err.str());
+    if (detail.size() > 200) detail = detail.substr(0, 200) + "...";
+    const auto add = [&](const std::string& what, MetricKind kind, double value, std::optional<double> p,
+                         double floor = 0.0) {
+      Metric m;
+      m.name = "ocp/" + name + "/" + what;
+      m.kind = kind;
+      m.value = value;
+      m.floor = floor;
+      m.paper = p;
+      m.seconds = seconds;
+      m.detail = detail;
+      out.push_back(m);
+    };
+    add("cost", MetricKind::Cost, number("cost"), example.cost);
+    add("violation", MetricKind::RoundOff, number("violation"), example.terminal_violation, 1e-15);
+    add("iterations", MetricKind::Count, number(direct ? "iterations" : "outer_iterations"),
+        direct ? std::nullopt : example.outer_iterations_approx);
+  }
+}
+
+struct Group {
+  const char* name;
+  const char* description;
+  void (*compute)(const ValidateOptions&, std::vector<Metric>&);
+};
+
+const Group kGroups[] = {
+    {"order", "observed order of every integrator on every system (final-state differences, steps halved 3x)",
+     order_metrics},
+    {"conservation",
+     "energy, momentum-map, orthogonality and quaternion-norm errors after a fixed number of steps; "
+     "rotation-update Newton iterations per step",
+     conservation_metrics},
+    {"exact", "final-state errors against the exact free-body and Lagrange-top solutions", exact_metrics},
+    {"linearization", "LGVI transition matrices vs finite differences and vs CVODES (suite sensitivity)",
+     linearization_metrics},
+    {"shooting", "indirect and direct shooting: cost, violation, iterations, condition numbers (suite shooting)",
+     shooting_metrics},
+    {"ocp", "the paper's four optimal control examples: cost, violation, iterations", ocp_metrics},
+};
+
+}  // namespace
+
+const std::vector<std::pair<std::string, std::string>>& metric_groups() {
+  static const std::vector<std::pair<std::string, std::string>> groups = [] {
+    std::vector<std::pair<std::string, std::string>> g;
+    for (const Group& group : kGroups) g.emplace_back(group.name, group.description);
+    return g;
+  }();
+  return groups;
+}
+
+std::string metric_group(const std::string& name) {
+  const std::string first = name.substr(0, name.find('/'));
+  for (const char* q : {"energy", "momentum", "orthogonality", "quaternion-norm", "newton"}) {
+    if (first == q) return "conservation";
+  }
+  return first;
+}
+
+std::vector<Metric> compute_metrics(const ValidateOptions& options, std::ostream& log) {
+  for (const std::string& g : options.only) {
+    bool known = false;
+    for (const Group& group : kGroups) known = known || g == group.name;
+    if (!known) {
+      std::string names;
+      for (const Group& group : kGroups) names += (names.empty() ? "" : ", ") + std::string(group.name);
+      throw InvalidInput("--only", "unknown group '" + g + "' (known: " + names + ")");
+    }
+  }
+  std::vector<Metric> metrics;
+  for (const Group& group : kGroups) {
+    if (!options.only.empty() &&
+        std::find(options.only.begin(), options.only.end(), std::string(group.name)) == options.only.end()) {
+      continue;
+    }
+    const auto t0 = Clock::now();
+    const std::size_t before = metrics.size();
+    group.compute(options, metrics);
+    log << "validate: " << group.name << ": " << metrics.size() - before << " metrics in "
+        << format("%.1f", seconds_since(t0)) << " s\n"
+        << std::flush;
+  }
+  return metrics;
+}
+
+}  // namespace lgvi::experiments

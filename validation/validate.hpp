@@ -1,0 +1,160 @@
+// `lgvi-testbed validate`: the regression gate of the accuracy metrics.
+//
+// A curated, fast set of metrics (validation/metrics.cpp) is computed and compared
+// with the accepted values in validation/accepted-quick.txt (or accepted-full.txt): one sorted,
+// reviewed text file per form, one line per metric, with the `git describe` it was accepted at.
+// Every metric has a kind, and the kind's rule decides the verdict (judge() below):
+//
+//   order       observed order of accuracy (log-log slope of successive differences).
+//               pass within +-0.05 absolute of the accepted order: a least-squares slope over
+//               steps halving three times resolves the order to ~0.01 in the asymptotic regime,
+//               and a defect (a lost symmetric term, a misplaced impulse) moves it by >= 0.5.
+//               Outside the band: `improved` when nearer the nominal order, else REGRESSED.
+//   truncation  an error dominated by the discretization (energy error of a fixed-step run, an
+//               error against an exact or finer solution): the same discretization reproduces
+//               it to round-off times the trajectory's amplification (< 1e6 on the horizons
+//               used: ~1e-10 relative), while any change of the scheme, its tolerance or chart
+//               changes its leading digits. pass within relative 1e-6 plus 10 x the metric's
+//               round-off floor where it has one (its round-off share moves with the operation
+//               order: energy errors eps sqrt(N), errors against an exact solution eps N);
+//               larger: REGRESSED, smaller: improved.
+//   round-off   an error at the round-off floor (orthogonality, momentum maps of the LGVI, a
+//               renormalized quaternion's norm, a converged violation): it random-walks with
+//               the operation order, so it is gated by a factor over its floor: REGRESSED above
+//               10 x max(accepted, floor), improved below accepted / 10 (when accepted > floor).
+//   cost        an optimal cost of a fixed discretization: the optimizer's tolerance (violation
+//               1e-10..1e-12, cost stationarity) fixes it to ~1e-12 relative; pass within
+//               relative 1e-9, larger: REGRESSED, smaller: improved (a better local optimum).
+//   count       iterations (Newton per step, shooting, SQP): a round-off change may flip one
+//               stopping test; pass within 5% + 0.5 of the accepted count, more: REGRESSED,
+//               fewer: improved.
+//   condition   a condition number: its singular values move by round-off relative to the
+//               largest one; gated by a factor 10 (REGRESSED above, improved below).
+// Metrics new since acceptance are `new`, accepted ones not computed now `missing`; neither
+// fails the gate (a metric that silently disappears is reported, and `--accept` drops it).
+// Timings are reported in their own column and never gated.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "lgvi/rotation_update.hpp"
+
+namespace lgvi::experiments {
+
+enum class MetricKind { Order, Truncation, RoundOff, Cost, Count, Condition };
+const char* to_string(MetricKind kind);
+/// Throws InvalidInput("kind", ...) for an unknown name.
+MetricKind parse_metric_kind(const std::string& name);
+
+/// One measured metric. Names are stable paths "GROUP/SUBJECT/..." (e.g.
+/// "order/pendulum-controlled/lgvi-yoshida4"); the first component is the group.
+struct Metric {
+  std::string name;
+  MetricKind kind = MetricKind::Truncation;
+  double value = 0.0;
+  double floor = 0.0;                  ///< round-off kind: the floor of the metric (absolute)
+  std::optional<double> nominal;       ///< order kind: the method's theoretical order
+  std::optional<double> paper;         ///< the paper's value, where it reports one
+  double seconds = 0.0;                ///< wall time to compute it (reported, never gated)
+  std::string detail;                  ///< one line: what was run
+};
+
+enum class Verdict { Pass, Regressed, Improved, New, Missing };
+const char* to_string(Verdict v);
+
+/// The verdict of `now` against `accepted` for a metric of `kind` (see the rules above). A
+/// non-finite value now (a failed run) is REGRESSED unless accepted was non-finite too.
+Verdict judge(MetricKind kind, double accepted, double now, double floor, std::optional<double> nominal);
+
+struct AcceptedValue {
+  MetricKind kind = MetricKind::Truncation;
+  double value = 0.0;
+};
+
+struct AcceptedFile {
+  std::string accepted_at;  ///< git describe at acceptance
+  std::string form;         ///< "quick" or "full"
+  std::map<std::string, AcceptedValue> values;
+};
+
+/// Reads an accepted-values file. A missing file gives an empty set (every metric `new`).
+/// Throws InvalidInput("FILE: line N", ...) for a malformed line.
+AcceptedFile read_accepted(const std::filesystem::path& file);
+/// Writes the metrics as the accepted set (sorted by name; values round-trip), atomically.
+void write_accepted(const std::filesystem::path& file, const std::vector<Metric>& metrics, const std::string& form,
+                    const std::string& accepted_at);
+
+/// Options of a validate run.
+struct ValidateOptions {
+  bool quick = false;
+  std::vector<std::string> only;          ///< groups to run (empty: all)
+  std::filesystem::path scenes_dir;
+  /// Applied to every single-body LGVI's rotation update. The gate's own test degrades it
+  /// (`--degraded-rotation-update`) to show that a degraded solver is caught.
+  RotationUpdateOptions rotation;
+};
+
+/// Metric groups, in the order they run: name and one-line description.
+const std::vector<std::pair<std::string, std::string>>& metric_groups();
+
+/// Computes the metrics of the selected groups. Progress (one line per group) goes to `log`.
+/// Throws InvalidInput for an unknown group.
+std::vector<Metric> compute_metrics(const ValidateOptions& options, std::ostream& log);
+
+/// One row of the comparison.
+struct MetricComparison {
+  std::string name;
+  MetricKind kind = MetricKind::Truncation;
+  std::optional<double> paper;
+  std::optional<double> accepted;
+  std::optional<double> now;
+  Verdict verdict = Verdict::Pass;
+  double seconds = 0.0;
+  std::string detail;
+};
+
+struct ValidateReport {
+  std::string form;
+  std::string accepted_at;
+  std::string version;  ///< git describe now
+  std::vector<MetricComparison> rows;  ///< sorted by name
+  std::size_t count(Verdict v) const;
+  bool regressed() const { return count(Verdict::Regressed) > 0; }
+};
+
+/// Compares metrics with an accepted set. `groups` restricts which accepted metrics can be
+/// `missing` (those of groups not run are left out).
+ValidateReport compare(const std::vector<Metric>& metrics, const AcceptedFile& accepted,
+                       const std::vector<std::string>& groups);
+
+/// The table: metric, kind, paper, accepted, now, ratio, verdict, seconds.
+void print_report(const ValidateReport& report, std::ostream& out);
+/// JSON: {"version", "form", "accepted_at", "summary": {...}, "metrics": [{...}, ...]}.
+void write_report_json(const ValidateReport& report, const std::filesystem::path& file);
+/// Markdown table of the report (docs/validate.md's validation table is generated from this).
+void write_report_markdown(const ValidateReport& report, const std::filesystem::path& file);
+/// The lines that --accept changes: "name: old -> new" (added, removed, changed), sorted.
+std::vector<std::string> accepted_diff(const AcceptedFile& before, const std::vector<Metric>& metrics);
+
+/// The default accepted-values file of a form: validation/accepted-quick.txt or accepted-full.txt
+/// in the source tree.
+std::filesystem::path default_accepted_file(bool quick);
+
+/// Where `validate --accept` writes: `given` (the --accepted option) when not empty; otherwise
+/// the form's default file when it is the source tree's (a checkout's reviewed file). An
+/// installed lgvi-testbed's default (PREFIX/share/lgvi/validation) belongs to the installation:
+/// refused with InvalidInput("--accepted", ...) asking for a file of the user's.
+std::filesystem::path accept_destination(const std::filesystem::path& given, bool quick);
+/// The rule of accept_destination with the default file and where it lives given (for tests).
+std::filesystem::path accept_destination(const std::filesystem::path& given, const std::filesystem::path& default_file,
+                                         bool default_is_installed);
+
+/// Group of a metric name: its first path component.
+std::string metric_group(const std::string& name);
+
+}  // namespace lgvi::experiments
