@@ -553,7 +553,8 @@ void bind_harness(py::module_& m) {
 
   m.def("methods", &method_list,
         "Every registered method: name, family, order, stages, fixed_step, uses_jacobian, models, takes_form, "
-        "legend.");
+        "legend, traits {symmetric, variational, stays_on_group, preserves_momentum_map, adaptive, "
+        "must_complete_at_extremes, systems}.");
   m.def("simulate", &simulate_scene, py::arg("scene"), py::arg("method") = "lgvi", py::arg("model") = py::none(),
         py::arg("rtol") = py::none(), py::arg("atol") = py::none(), py::arg("csv") = py::none(),
         "Integrates a Scene with a method of methods() (baselines need model; adaptive ones take rtol/atol), "

@@ -40,6 +40,20 @@ constexpr double kFdTolerance = 1e3 * 3.666852862501036e-11;  // 1e3 * eps^(2/3)
 /// a few eps per operation, counted generously as 16 n eps scale.
 inline double roundoff(double scale, double operations = 1.0) { return 16.0 * operations * kEps * scale; }
 
+// An O(1) 3x3 result (exp, Cayley, Jacobians, R^T R) is built in <= 8 flops per entry on
+// quantities of size <= 2 (|a| <= 1, |b hat(w)^2| = 1 - cos <= 2); roundoff() counts 16 eps per
+// flop, which also covers the factor 3 of a Frobenius norm over 9 entries: 128 eps ~ 2.8e-14.
+inline const double kMatTol = roundoff(1.0, 8);
+
+// Long LGVI runs (10^5-10^6 steps): round-off alone predicts far less. Each step perturbs R by
+// ~eps and the momentum by ~eps |Pi|; a random walk over n = 1e6 steps gives ~sqrt(n) eps
+// ~ 1e-13, a systematic bias at worst n eps ~ 2e-10 (which the momentum bound would catch).
+inline constexpr double kOrthogonalityBound = 1e-12;
+inline constexpr double kMomentumRelativeBound = 1e-10;
+
+// The acceptance band of a fitted convergence slope against the nominal order (the order tests).
+inline constexpr double kOrderTolerance = 0.1;
+
 /// Slope of the least-squares line through (log x_i, log y_i).
 template <class Vec>
 double loglog_slope(const Vec& x, const Vec& y) {

@@ -54,7 +54,16 @@ def test_every_method_gives_the_cli_rows(tmp_path):
     number (the same code path: `lgvi-testbed simulate` and lgvi.simulate)."""
     scene = lgvi.load_scene("free-body", t_final=0.2)
     methods = lgvi.methods()
-    assert {m["family"] for m in methods} == {"lgvi", "composed-lgvi", "baseline"}
+    assert {"lgvi", "composed-lgvi", "baseline"} <= {m["family"] for m in methods}
+    assert {m["family"] for m in methods} <= {"lgvi", "composed-lgvi", "one-step", "baseline"}
+    # The traits: the LGVIs are variational, stay on the group and keep the momentum map; a method
+    # on coordinate models never claims to stay on the group.
+    for m in methods:
+        if m["family"] in ("lgvi", "composed-lgvi"):
+            t = m["traits"]
+            assert t["variational"] and t["stays_on_group"] and t["preserves_momentum_map"], m["name"]
+        assert not (m["models"] and m["traits"]["stays_on_group"]), m["name"]
+        assert m["traits"]["adaptive"] == (not m["fixed_step"]), m["name"]
     for m in methods:
         model = m["models"][0] if m["models"] else None
         rtol = None if m["fixed_step"] or m["family"] != "baseline" else 1e-8

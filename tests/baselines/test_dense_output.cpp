@@ -29,7 +29,7 @@ namespace {
 
 constexpr double kFineStep = 1e-3;        // the fine output grid
 constexpr std::size_t kCoarseEvery = 1000;  // the coarse grid: every 1000th fine time
-constexpr double kReferenceRtol = 1e-14;
+constexpr double kDenseReferenceRtol = 1e-14;
 
 std::vector<std::string> adaptive_methods() {
   std::vector<std::string> m;
@@ -121,7 +121,7 @@ TEST(DenseOutput, TheOutputGridDoesNotChangeTheRun) {
 TEST(DenseOutput, InterpolatedSamplesKeepTheSolversPromise) {
   for (const Case& c : cases()) {
     const std::vector<double> fine = fine_times(c.T);
-    const Trajectory ref = c.run("gsl-rk8pd", CoordinateModel::Quaternion, fine, adaptive(kReferenceRtol));
+    const Trajectory ref = c.run("gsl-rk8pd", CoordinateModel::Quaternion, fine, adaptive(kDenseReferenceRtol));
     ASSERT_TRUE(ref.stats.ok()) << ref.stats.brief();
     double y_max = 1.0;
     for (const Vec3& O : ref.Omega) y_max = std::max(y_max, O.cwiseAbs().maxCoeff());

@@ -19,14 +19,14 @@
 namespace lgvi::test {
 namespace {
 
-constexpr double kT = 200.0;
+constexpr double kDriftT = 200.0;
 constexpr std::size_t kSamples = 200;
 constexpr double kStep = 0.01;     // fixed-step methods
-constexpr double kRtol = 1e-6;     // adaptive methods (the default tolerance)
+constexpr double kDriftRtol = 1e-6;     // adaptive methods (the default tolerance)
 constexpr double kGrowth = 3.0;    // a random walk grows by sqrt(10) ~ 3.2 over ten times the time
 
 SolverSettings settings_for(const std::string& method) {
-  return is_fixed_step(method) ? fixed(kStep) : adaptive(kRtol);
+  return is_fixed_step(method) ? fixed(kStep) : adaptive(kDriftRtol);
 }
 
 /// The structural error of a sample: | |q| - 1 | of the raw quaternion, or ||R^T R - I||_F.
@@ -40,7 +40,7 @@ std::vector<double> structural_error(const Trajectory& tr, CoordinateModel model
 
 Trajectory long_run(const std::string& method, CoordinateModel model) {
   static const FreeRigidBody body = free_body();
-  return run_attitude(method, model, body, {}, free_body_R0(), free_body_Omega0(), uniform_times(kT, kSamples),
+  return run_attitude(method, model, body, {}, free_body_R0(), free_body_Omega0(), uniform_times(kDriftT, kSamples),
                       settings_for(method));
 }
 
@@ -90,7 +90,7 @@ TEST_P(Renormalized, StaysAtRoundOff) {
     // Adaptive methods interpolate the output times (their dense output, or the Hermite
     // interpolant): the raw samples lie between two normalized steps, off the unit sphere by the
     // local error, which does not accumulate (the model normalizes them for R).
-    EXPECT_LT(raw, 10 * kRtol);
+    EXPECT_LT(raw, 10 * kDriftRtol);
   } else {
     EXPECT_LT(raw, roundoff(1.0, 4));  // the samples are step ends
   }

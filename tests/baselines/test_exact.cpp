@@ -236,7 +236,7 @@ TEST_P(Exact, SatisfiesEulersEquationAndTheKinematicsByCentralDifferences) {
 // errors stay below rtol (1 + |y_i|) per component, so after N accepted steps the distance
 // ||R - R_ref||_F + |Omega - Omega_ref| is below N rtol (1 + max |y_i|) sqrt(n), n = 7. The exact
 // solution is far more accurate than that (a), so the bound is the solver's own.
-constexpr double kReferenceRtol = 1e-13;
+constexpr double kExactReferenceRtol = 1e-13;
 
 TEST_P(Exact, AgreesWithRk8pdToItsTolerance) {
   const ExactCase& c = GetParam();
@@ -245,7 +245,7 @@ TEST_P(Exact, AgreesWithRk8pdToItsTolerance) {
   const std::vector<double> times = uniform_times(horizon, 30);
   const Trajectory tr = with_system(c, [&](const auto& sys) {
     return run_attitude("gsl-rk8pd", CoordinateModel::Quaternion, sys, nullptr, c.R0, c.Omega0, times,
-                        adaptive(kReferenceRtol));
+                        adaptive(kExactReferenceRtol));
   });
   ASSERT_TRUE(tr.stats.ok()) << tr.stats.brief();
   double distance = 0.0, y_max = 1.0;
@@ -254,7 +254,7 @@ TEST_P(Exact, AgreesWithRk8pdToItsTolerance) {
     distance = std::max(distance, state_distance(tr.R[k], tr.Omega[k], s.R, s.Omega));
     y_max = std::max(y_max, s.Omega.cwiseAbs().maxCoeff());
   }
-  const double bound = static_cast<double>(tr.stats.steps) * kReferenceRtol * (1.0 + y_max) * std::sqrt(7.0);
+  const double bound = static_cast<double>(tr.stats.steps) * kExactReferenceRtol * (1.0 + y_max) * std::sqrt(7.0);
   std::cout << "[ rk8pd    ] " << c.name << ": distance " << fmt(distance) << " over " << fmt(horizon) << " s ("
             << tr.stats.steps << " steps; bound " << fmt(bound) << ", ratio " << fmt(distance / bound) << ")\n";
   EXPECT_LT(distance, bound);

@@ -27,12 +27,12 @@
 namespace lgvi::test {
 namespace {
 
-constexpr double kReferenceRtol = 1e-14;
-constexpr double kCheckRtol = 1e-13;
+constexpr double kMultibodyReferenceRtol = 1e-14;
+constexpr double kMultibodyCheckRtol = 1e-13;
 constexpr double kReferenceAgreement = 1e-11;
-constexpr double kRtol = 1e-9;
+constexpr double kMultibodyRtol = 1e-9;
 constexpr double kFixedStep = 1e-3;
-constexpr double kT = 3.0;
+constexpr double kMultibodyT = 3.0;
 constexpr std::size_t kSamples = 30;
 constexpr double kPerturbation = 1e-6;
 
@@ -53,14 +53,14 @@ MultibodyScenario cart_scenario() {
   return {"cart-pendulum",
           [](const std::string& method, CoordinateModel model, const SolverSettings& s) {
             return run_model(method, model, mech, {cart_R0()}, {cart_Omega0()}, cart_q0(), cart_q_dot0(),
-                             uniform_times(kT, kSamples), s);
+                             uniform_times(kMultibodyT, kSamples), s);
           },
           std::sqrt(md * cart.gravity / (J_min - md * md / (cart.cart_mass + cart.mass))), 1,
           [](int component, double delta) {
             Vec3 Omega0 = cart_Omega0();
             Omega0(component) += delta;
             return run_model("gsl-rk8pd", CoordinateModel::Quaternion, mech, {cart_R0()}, {Omega0}, cart_q0(),
-                             cart_q_dot0(), uniform_times(kT, kSamples), adaptive(kReferenceRtol));
+                             cart_q_dot0(), uniform_times(kMultibodyT, kSamples), adaptive(kMultibodyReferenceRtol));
           }};
 }
 
@@ -69,14 +69,14 @@ MultibodyScenario bodies_scenario() {
   static const baselines::ConnectedBodiesMechanics mech(bodies, bodies_control);
   return {"connected bodies",
           [](const std::string& method, CoordinateModel model, const SolverSettings& s) {
-            return run_model(method, model, mech, bodies_R0(), bodies_Omega0(), {}, {}, uniform_times(kT, kSamples), s);
+            return run_model(method, model, mech, bodies_R0(), bodies_Omega0(), {}, {}, uniform_times(kMultibodyT, kSamples), s);
           },
           0.0, 2,
           [](int component, double delta) {
             std::array<Vec3, 2> Omega0 = bodies_Omega0();
             Omega0[component / 3](component % 3) += delta;
             return run_model("gsl-rk8pd", CoordinateModel::Quaternion, mech, bodies_R0(), Omega0, {}, {},
-                             uniform_times(kT, kSamples), adaptive(kReferenceRtol));
+                             uniform_times(kMultibodyT, kSamples), adaptive(kMultibodyReferenceRtol));
           }};
 }
 
@@ -98,9 +98,9 @@ const Reference& reference(const MultibodyScenario& s) {
   static std::map<std::string, Reference> cache;
   auto it = cache.find(s.name);
   if (it == cache.end()) {
-    Path ref = s.run("gsl-rk8pd", CoordinateModel::Quaternion, adaptive(kReferenceRtol));
+    Path ref = s.run("gsl-rk8pd", CoordinateModel::Quaternion, adaptive(kMultibodyReferenceRtol));
     EXPECT_TRUE(ref.stats.ok()) << ref.stats.brief();
-    const Path check = s.run("odeint-rkf78", CoordinateModel::Matrix, adaptive(kCheckRtol));
+    const Path check = s.run("odeint-rkf78", CoordinateModel::Matrix, adaptive(kMultibodyCheckRtol));
     EXPECT_TRUE(check.stats.ok()) << check.stats.brief();
     const double d = max_distance(ref, check);
     std::cout << "[ ref      ] " << s.name << ": gsl-rk8pd/quaternion at 1e-14 vs odeint-rkf78/matrix at 1e-13: " << d
@@ -126,13 +126,13 @@ class MultibodyAgreementAll : public ::testing::TestWithParam<Combination> {
     const Reference& r = reference(s);
     const Path& ref = r.path;
     const bool fixed_step = is_fixed_step(c.method);
-    const Path p = s.run(c.method, c.model, fixed_step ? fixed(kFixedStep) : adaptive(kRtol));
+    const Path p = s.run(c.method, c.model, fixed_step ? fixed(kFixedStep) : adaptive(kMultibodyRtol));
     ASSERT_TRUE(p.stats.ok()) << p.stats.brief();
     ASSERT_EQ(p.z.size(), ref.z.size());
     const double err = max_distance(p, ref);
     const double w = std::max(s.gravity_rate, max_rate(ref, s.bodies));
     const double bound =
-        r.amplification * (fixed_step ? kT * w * std::pow(kFixedStep * w, 4) : adaptive_bound(p, kRtol));
+        r.amplification * (fixed_step ? kMultibodyT * w * std::pow(kFixedStep * w, 4) : adaptive_bound(p, kMultibodyRtol));
     std::ostringstream os;
     os << "[ error    ] " << s.name << " " << c.method << "/" << baselines::to_string(c.model) << ": "
        << std::setprecision(2) << std::scientific << err << " (bound " << bound << ", ratio " << err / bound << "), "

@@ -14,7 +14,7 @@ namespace lgvi::test {
 namespace {
 
 constexpr double kSlopeTolerance = 0.15;
-constexpr double kT = 1.0;
+constexpr double kOrderT = 1.0;
 constexpr double kHMax = 0.02;
 
 struct OrderCase {
@@ -27,7 +27,7 @@ class FixedStepOrder : public ::testing::TestWithParam<OrderCase> {};
 TEST_P(FixedStepOrder, IsFourOnThePendulum) {
   const OrderCase& c = GetParam();
   const Pendulum3D pendulum = Pendulum3D::paper();
-  const std::vector<double> times = uniform_times(kT, 10);
+  const std::vector<double> times = uniform_times(kOrderT, 10);
   const Trajectory ref = run_attitude("gsl-rk8pd", CoordinateModel::Quaternion, pendulum, pendulum_control,
                                       pendulum_R0(), pendulum_Omega0(), times, adaptive(1e-14));
   ASSERT_TRUE(ref.stats.ok()) << ref.stats.brief();

@@ -19,7 +19,6 @@
 namespace lgvi::test {
 namespace {
 
-constexpr double kOrderTolerance = 0.1;  // the acceptance band for the fitted slope
 
 struct OrderCase {
   std::string name;

@@ -13,11 +13,7 @@
 namespace lgvi::test {
 namespace {
 
-// Acceptance bounds of the issue. Round-off alone predicts far less: each step perturbs R by
-// ~eps and the momentum by ~eps |Pi|; a random walk over n = 1e6 steps gives ~sqrt(n) eps
-// ~ 1e-13, a systematic bias at worst n eps ~ 2e-10 (which the momentum bound would catch).
-constexpr double kOrthogonalityBound = 1e-12;
-constexpr double kMomentumRelativeBound = 1e-10;
+// kOrthogonalityBound, kMomentumRelativeBound: the long runs' bounds (test_support.hpp).
 
 struct LongRun {
   double max_orthogonality = 0.0;

@@ -20,9 +20,6 @@
 namespace lgvi::test {
 namespace {
 
-constexpr double kOrthogonalityBound = 1e-12;
-constexpr double kMomentumRelativeBound = 1e-10;
-constexpr double kOrderTolerance = 0.1;
 
 // --- Initial states and controls -----------------------------------------------------------------
 Mat3 cart_R0() { return so3::exp(Vec3(0.5, -0.3, 0.2)); }

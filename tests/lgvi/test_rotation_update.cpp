@@ -26,7 +26,7 @@ using test::kEps;
 using test::roundoff;
 
 // O(1) rotation matrix built in <= 8 flops per entry (see test_so3.cpp): 128 eps.
-const double kMatTol = roundoff(1.0, 8);
+using test::kMatTol;
 
 Inertia paper_inertia() { return Inertia::from(Vec3(0.13, 0.28, 0.17).asDiagonal()); }
 

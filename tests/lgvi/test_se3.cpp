@@ -16,8 +16,8 @@ namespace {
 using test::roundoff;
 
 // Tolerances (derived). An O(1) 3x3 rotation block built in <= 8 flops per entry, 16 eps per
-// flop (roundoff()), Frobenius factor 3 included in the generous count: see test_so3.cpp.
-const double kMatTol = roundoff(1.0, 8);
+// flop (roundoff()), Frobenius factor 3 included in the generous count: see test_support.hpp.
+using test::kMatTol;
 // Translation-type quantities of size s (R x + y, Jl v, ...): each component a 3-term dot product
 // plus a sum, <= 4 flops on terms of size s; the Frobenius factor sqrt(3) is covered by 16
 // eps/flop.

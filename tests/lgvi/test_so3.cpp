@@ -22,10 +22,8 @@ using test::kFdTolerance;
 using test::roundoff;
 
 // --- Tolerances (derived) ------------------------------------------------------------------
-// An O(1) 3x3 result (exp, Cayley, Jacobians, R^T R) is built in <= 8 flops per entry on
-// quantities of size <= 2 (|a| <= 1, |b hat(w)^2| = 1 - cos <= 2); roundoff() counts 16 eps per
-// flop, which also covers the factor 3 of a Frobenius norm over 9 entries: 128 eps ~ 2.8e-14.
-const double kMatTol = roundoff(1.0, 8);
+// kMatTol: an O(1) 3x3 result (test_support.hpp).
+using test::kMatTol;
 // Entrywise (max-abs) error of such a matrix when each entry takes <= 1 flop-equivalent of
 // error beyond its inputs: 16 eps. Used where a sharper check is needed (branch continuity).
 const double kEntryTol = roundoff(1.0, 1);
