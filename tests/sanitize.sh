@@ -40,27 +40,24 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # bodies' agreement tests, the order, momentum and reversibility tests).
 long_sweeps="FastLgviStep.FreeBodyAgreesWithTheReferenceOver1e5Steps:FastLgviStep.PendulumAgreesWithTheReference"
 long_sweeps="$long_sweeps:LgviStructure.PendulumMillionStepsUncontrolled:LgviStructure.PendulumMillionStepsWithSymmetricControl"
-# In $jobs shards (GoogleTest's sharding: each test runs in exactly one shard) side by side.
-pids=()
-for ((shard = 0; shard < jobs; ++shard)); do
-  GTEST_TOTAL_SHARDS=$jobs GTEST_SHARD_INDEX=$shard "$dir/tests/test_lgvi" --gtest_brief=1 \
-    --gtest_filter="-$long_sweeps" &
-  pids+=($!)
-done
-for pid in "${pids[@]}"; do
-  wait "$pid" || { echo "sanitize.sh: a test_lgvi shard failed" >&2; exit 1; }
-done
-stamp "test_lgvi passed"
-# test_experiments whole, in the same shards (its CLI tests run the sanitized lgvi-testbed).
-pids=()
-for ((shard = 0; shard < jobs; ++shard)); do
-  GTEST_TOTAL_SHARDS=$jobs GTEST_SHARD_INDEX=$shard "$dir/tests/test_experiments" --gtest_brief=1 &
-  pids+=($!)
-done
-for pid in "${pids[@]}"; do
-  wait "$pid" || { echo "sanitize.sh: a test_experiments shard failed" >&2; exit 1; }
-done
-stamp "test_experiments passed"
+# A test program in $jobs shards side by side (GoogleTest's sharding: each test runs in exactly
+# one shard); the job fails with the first failed shard.
+run_shards() {
+  local program=$1
+  shift
+  local pids=() shard pid
+  for ((shard = 0; shard < jobs; ++shard)); do
+    GTEST_TOTAL_SHARDS=$jobs GTEST_SHARD_INDEX=$shard "$dir/tests/$program" --gtest_brief=1 "$@" &
+    pids+=($!)
+  done
+  for pid in "${pids[@]}"; do
+    wait "$pid" || { echo "sanitize.sh: a $program shard failed" >&2; exit 1; }
+  done
+  stamp "$program passed"
+}
+run_shards test_lgvi --gtest_filter="-$long_sweeps"
+# test_experiments whole (its CLI tests run the sanitized lgvi-testbed).
+run_shards test_experiments
 
 exe="$dir/lgvi-testbed"
 work=$(mktemp -d)
