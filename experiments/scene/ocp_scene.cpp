@@ -176,12 +176,14 @@ const char* to_string(OcpMethod m) { return m == OcpMethod::Indirect ? "indirect
 
 std::shared_ptr<const OcpDefinition> read_ocp_table(const SceneReader& r, const Model& model,
                                                      const SceneTable& parameters, const SceneTable& ocp) {
-  if (const auto* free_body = std::get_if<FreeBodyModel>(&model); free_body && free_body->gravity_gradient) {
-    r.fail("parameters.orbit_rate", "the free body's optimal control model has no gravity-gradient moment "
-                                    "(remove orbit_rate, or [ocp])");
-  }
   return std::visit(
-      [&](const auto& m) { return read_for<std::decay_t<decltype(m)>>(r, parameters, ocp); }, model);
+      [&](const auto& m) {
+        using B = OcpBinding<std::decay_t<decltype(m)>>;
+        // A scene the system's optimal control model does not describe (its binding says).
+        if constexpr (requires { B::check_scene(r, m); }) B::check_scene(r, m);
+        return read_for<std::decay_t<decltype(m)>>(r, parameters, ocp);
+      },
+      model);
 }
 
 fs::path resolve_ocp_scene(const std::string& name_or_path, const fs::path& scenes_dir) {

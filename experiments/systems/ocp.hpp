@@ -90,6 +90,13 @@ struct OcpBinding<FreeBodyModel> {
   static constexpr int nu = 3;
   using IndirectModel = ocp::FreeBodyModel;
   static const FreeRigidBody& system(const FreeBodyModel& m) { return m.system; }
+  /// The optimal control model has no gravity-gradient moment: a scene on an orbit is refused.
+  static void check_scene(const SceneReader& r, const FreeBodyModel& m) {
+    if (m.gravity_gradient) {
+      r.fail("parameters.orbit_rate", "the free body's optimal control model has no gravity-gradient moment "
+                                      "(remove orbit_rate, or [ocp])");
+    }
+  }
   static ocp::TransferProblem transfer(const FreeBodyModel& m, const AttitudeInitial& target, double t_final) {
     ocp::TransferProblem p;
     p.R0 = m.initial.R;
