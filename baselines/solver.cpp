@@ -32,6 +32,11 @@ const std::vector<SolverInfo>& solver_list() {
        OutputInterpolation::FixedGrid, detail::run_gsl_rk4imp},
       {"gsl-msbdf", StepControl::Adaptive, false, "GSL odeiv2 variable-order BDF (orders 1-5), Newton", 0, 0, true,
        OutputInterpolation::Hermite, detail::run_gsl_msbdf},
+      {"arkode-erk", StepControl::Adaptive, false, "SUNDIALS ARKODE ERKStep, Verner 6(5) 8-stage pair", 0, 0, false,
+       OutputInterpolation::Arkode, detail::run_arkode_erk},
+      {"arkode-dirk", StepControl::Adaptive, false,
+       "SUNDIALS ARKODE ARKStep ESDIRK, Kennedy-Carpenter ARK5(4)8L[2]SA implicit part, Newton + dense LU", 0, 0, true,
+       OutputInterpolation::Arkode, detail::run_arkode_dirk},
   };
   return list;
 }
@@ -68,9 +73,16 @@ SolverSettings resolve_settings(const SolverInfo& info, const SolverSettings& se
     if (!(std::isfinite(*s.atol) && *s.atol > 0.0)) throw InvalidInput("atol", "must be finite and > 0");
   }
   if (ode.renormalizes() && !info.post_step_hook) {
+    // Why each has none is in baselines/solver.hpp (a multistep history that would restart at order
+    // 1 every step; ARKODE's post-processing, unseen by its error control).
+    std::string with_hook;
+    for (const SolverInfo& other : solver_list()) {
+      if (other.post_step_hook) with_hook += (with_hook.empty() ? "" : ", ") + other.name;
+    }
     throw InvalidInput("model", info.name + " has no post-step hook for renormalization (modifying the state "
-                                            "between steps would restart its multistep history at order 1 every "
-                                            "step); use cvode-bdf (CVODE's projection) or a one-step method");
+                                            "between steps would restart a multistep history or bypass the error "
+                                            "control); use one of " +
+                                            with_hook + " (cvode-bdf: CVODE's projection)");
   }
   if (s.jacobian == JacobianSource::DifferenceQuotient && !info.difference_quotient_jacobian) {
     throw InvalidInput("jacobian", "only CVODE has a difference-quotient Jacobian; " + info.name +

@@ -15,12 +15,20 @@
 //                              symplectic), fixed step; modified Newton with the model's Jacobian
 //   gsl-msbdf                  GSL odeiv2 variable-order BDF (Nordsieck), error control; Hermite
 //                              output
+//   arkode-erk                 SUNDIALS ARKODE ERKStep, Verner's 8-stage 6(5) pair, error control;
+//                              output from ARKODE's Hermite interpolant (ERKStepGetDky, degree 5)
+//   arkode-dirk                SUNDIALS ARKODE ARKStep implicit only, the ESDIRK 5(4) of Kennedy and
+//                              Carpenter's ARK5(4)8L[2]SA; Newton with a dense direct linear solver
+//                              and the model's Jacobian; output as arkode-erk (ARKStepGetDky)
+//                              (arkode_solver.cpp: the tables and why)
 //
 // Output times do not change the run. The adaptive methods step freely over the whole horizon
 // (times.front() to times.back(); only the last step is shortened to end there), from a first
 // step that does not depend on the output times (CVODE's own estimate towards the end of the
-// horizon; the others' by Run::initial_step), and the output times are interpolated: CVODE's
-// Nordsieck polynomial, odeint's dense output (dopri5, Bulirsch-Stoer), and for the methods
+// horizon, ARKODE's likewise; the others' by Run::initial_step), and the output times are
+// interpolated: CVODE's Nordsieck polynomial, ARKODE's Hermite interpolant of the last step (y, f
+// at its ends and f inside it, evaluated per output time: output_rhs_evaluations),
+// odeint's dense output (dopri5, Bulirsch-Stoer), and for the methods
 // without one (rkf78, rk8pd, msbdf) the quintic Hermite interpolant of each accepted step from y,
 // f and y'' at its ends (order 6 locally; 3 extra RHS evaluations per interpolated step end,
 // counted in rhs_evaluations and output_rhs_evaluations; solver_detail.hpp). The same steps
@@ -48,9 +56,13 @@
 //   cvode-adams, gsl-msbdf  rejected: modifying the state between steps would restart their
 //                         multistep history at order 1 on every step (CVODE offers projection for
 //                         BDF only)
+//   arkode-erk, arkode-dirk  rejected: ARKODE 5.4 has no projection, only a post-processing
+//                         function applied after the error test, unseen by the error estimate and
+//                         the step-size control, between the states its interpolant is built from
 //
 // Gimbal lock (Euler model): the event function is acos(sqrt(eps)) - |pitch| (see
-// baselines/coordinates.hpp); CVODE watches it with its root finder (direction: decreasing);
+// baselines/coordinates.hpp); CVODE and ARKODE watch it with their root finders (direction:
+// decreasing);
 // odeint's dense-output steppers locate a sign change on their own dense output; the other
 // solvers evaluate it after every step and, on a sign change, find the root on the cubic Hermite
 // interpolant of the step (exact for states cubic in t, O(h^4) otherwise; the quadratic through
@@ -80,6 +92,7 @@ enum class OutputInterpolation {
   Cvode,        ///< CVODE's interpolating (Nordsieck) polynomial, CVodeGetDky
   DenseOutput,  ///< the stepper's own dense output (odeint dopri5, Bulirsch-Stoer)
   Hermite,      ///< the quintic Hermite interpolant of the accepted steps (solver_detail.hpp)
+  Arkode,       ///< ARKODE's Hermite interpolation module (degree 5), ERKStepGetDky / ARKStepGetDky
 };
 
 namespace detail {
@@ -162,7 +175,7 @@ using SampleObserver = std::function<bool(std::size_t index, double t, const dou
 ///   SolverFailed           a solver flag (named, with the solver's message and the time reached)
 ///                          or a non-finite state or right-hand side;
 ///   CoordinateSingularity  the model's singular set (the time and the angle).
-/// Samples are delivered only for times before the failure. Never prints (CVODE's and GSL's
+/// Samples are delivered only for times before the failure. Never prints (CVODE's, ARKODE's and GSL's
 /// error handlers are redirected into the status). Throws InvalidInput for bad settings (see
 /// resolve_settings) or bad times/initial state.
 Stats integrate(const std::string& method, const Ode& ode, std::span<const double> y0, std::span<const double> times,

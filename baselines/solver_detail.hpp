@@ -209,5 +209,7 @@ Stats run_odeint_bs(Run& run, std::vector<double>& y);
 Stats run_gsl_rk8pd(Run& run, std::vector<double>& y);
 Stats run_gsl_rk4imp(Run& run, std::vector<double>& y);
 Stats run_gsl_msbdf(Run& run, std::vector<double>& y);
+Stats run_arkode_erk(Run& run, std::vector<double>& y);
+Stats run_arkode_dirk(Run& run, std::vector<double>& y);
 
 }  // namespace lgvi::baselines::detail

@@ -46,7 +46,7 @@ TEST(CvodeFailure, TooMuchAccuracyIsAStatus) {
 
 TEST(StepBudget, EveryLibraryReportsIt) {
   for (const std::string method : {"odeint-rk4", "odeint-dopri5", "odeint-rkf78", "odeint-bs", "gsl-rk8pd",
-                                   "gsl-rk4imp", "gsl-msbdf"}) {
+                                   "gsl-rk4imp", "gsl-msbdf", "arkode-erk", "arkode-dirk"}) {
     SolverSettings s = is_fixed_step(method) ? fixed(1e-3) : adaptive(1e-10);
     s.max_steps = 7;
     const Trajectory tr = run_pendulum(method, CoordinateModel::Quaternion, s);
@@ -112,7 +112,7 @@ TEST(Settings, BadCombinationsAreRejectedNamingTheOption) {
   expect_invalid("gsl-rk8pd", CoordinateModel::Quaternion, adaptive(-1.0), "rtol", "> 0");
   expect_invalid("odeint-rk4", CoordinateModel::Quaternion, fixed(0.0), "h", "> 0");
   expect_invalid("odeint-rk4", CoordinateModel::Quaternion, fixed(0.03), "h", "not on the grid");
-  for (const std::string method : {"cvode-adams", "gsl-msbdf"}) {
+  for (const std::string method : {"cvode-adams", "gsl-msbdf", "arkode-erk", "arkode-dirk"}) {
     expect_invalid(method, CoordinateModel::QuaternionRenormalized, adaptive(1e-8), "model", "no post-step hook");
   }
   SolverSettings dq = adaptive(1e-8);
