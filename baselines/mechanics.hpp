@@ -355,4 +355,26 @@ class ConnectedBodiesMechanics {
 static_assert(Mechanics<CartPendulumMechanics>);
 static_assert(Mechanics<ConnectedBodiesMechanics>);
 
+/// The state of a one-step method over continuous mechanics Mech (the Lie group methods of
+/// baselines/lie_group.hpp, the harness's one-step driver): the configuration (attitudes R_i,
+/// positions x) and the velocity state w (body angular velocities and x', or the momenta of a
+/// multibody system's momentum form).
+template <Mechanics Mech>
+struct MechanicsState {
+  typename Mech::Config config;
+  typename Mech::Velocity w;
+};
+
+/// A state with a non-finite entry names it (lgvi::integrate() stops there; argument-dependent
+/// lookup).
+template <Mechanics Mech>
+const char* non_finite_part(const MechanicsState<Mech>& s) {
+  for (const Mat3& R : s.config.R) {
+    if (!R.allFinite()) return "R";
+  }
+  if (!s.config.x.allFinite()) return "x";
+  if (!s.w.allFinite()) return "the velocity state";
+  return nullptr;
+}
+
 }  // namespace lgvi::baselines

@@ -152,6 +152,19 @@ inline Mat3 right_jacobian_inverse(const Vec3& w) {
   return Mat3::Identity() + 0.5 * W + e * W * W;
 }
 
+/// Jr^{-1}(w) v by its series through degree 3 in w: the right-trivialized dexp^{-1},
+///     Jr^{-1}(w) v = sum_k (-1)^k B_k / k! ad_w^k(v) = v + w x v / 2 + w x (w x v) / 12 + O(|w|^4 |v|)
+/// (B_k the Bernoulli numbers; B_3 = 0, so the degree-3 term vanishes; the first omitted one is
+/// -w x (w x (w x (w x v))) / 720). The Runge-Kutta-Munthe-Kaas methods solve
+/// theta' = Jr^{-1}(theta) Omega for R = R_0 exp(theta), and a truncation index q >= p - 2 keeps
+/// their order p (Munthe-Kaas, "High order Runge-Kutta methods on manifolds", Appl. Numer. Math.
+/// 29 (1999); Hairer, Lubich, Wanner, "Geometric Numerical Integration", Sec. IV.8): theta ~ t
+/// Omega, so ad_theta^k(Omega) = O(h^(k+1)); this series serves up to order 5.
+inline Vec3 right_jacobian_inverse_series(const Vec3& w, const Vec3& v) {
+  const Vec3 wv = w.cross(v);
+  return v + 0.5 * wv + (1.0 / 12.0) * w.cross(wv);
+}
+
 /// Inverse left Jacobian, Jl^{-1}(w) = Jr^{-1}(-w).
 inline Mat3 left_jacobian_inverse(const Vec3& w) { return right_jacobian_inverse(-w); }
 

@@ -4,7 +4,9 @@
 //                                      (tests/lgvi/reference_rotation_update.hpp), so that one
 //                                      run measures before and after;
 //   rk4-quaternion                     one classical RK4 step of the quaternion model of the
-//                                      same system (quaternion_rk4.hpp), same state, same h.
+//                                      same system (quaternion_rk4.hpp), same state, same h;
+//   lie-euler, rkmk2, rkmk4, cg3,      one step of each Lie group method (baselines/lie_group.hpp)
+//   cg4, cf4                           over the system's continuous mechanics, same state, same h.
 // Each iteration is one step along a trajectory from the same initial state; items/s is steps
 // per second, newton_per_step the rotation update's Newton iterations per step (the polishing
 // step included, as RotationUpdateSummary counts them). After the runs a table gives ns per
@@ -20,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "baselines/lie_group.hpp"
+#include "baselines/mechanics.hpp"
 #include "lgvi/composition.hpp"
 #include "lgvi/lgvi.hpp"
 #include "lgvi/multibody_lgvi.hpp"
@@ -33,6 +37,7 @@ namespace {
 
 using namespace lgvi;
 using benchmarks::QuaternionRk4;
+namespace lg = baselines::lie_group;
 
 RotationUpdateOptions with_primary(Parametrization p) {
   RotationUpdateOptions o;
@@ -68,6 +73,30 @@ struct AttitudeCase {
   double h;
 };
 
+/// Steps a Lie group method's flow (baselines/lie_group.hpp) over the case's attitude mechanics.
+template <class Flow, class System>
+void run_lie_group_steps(benchmark::State& bench, const Flow& flow, const AttitudeCase<System>& c) {
+  baselines::MechanicsState<baselines::AttitudeMechanics<System>> s;
+  s.config.R[0] = c.R0;
+  s.w = c.Omega0;
+  double t = 0.0;
+  for (auto _ : bench) {
+    flow.step(s, c.h, t, t + c.h, s);
+    t += c.h;
+    benchmark::DoNotOptimize(s);
+  }
+  bench.SetItemsProcessed(bench.iterations());
+}
+
+template <class System, class Tableau, template <class, class> class FlowOf>
+void register_lie_group(const AttitudeCase<System>& c, const char* name) {
+  benchmark::RegisterBenchmark((c.name + "/" + name).c_str(), [c](benchmark::State& bench) {
+    using Mech = baselines::AttitudeMechanics<System>;
+    const Mech mech(c.system);
+    run_lie_group_steps(bench, FlowOf<Mech, Tableau>(mech), c);
+  });
+}
+
 template <class System>
 void register_attitude(const AttitudeCase<System>& c) {
   for (const Parametrization p : {Parametrization::Cayley, Parametrization::Exponential}) {
@@ -94,6 +123,16 @@ void register_attitude(const AttitudeCase<System>& c) {
       benchmark::DoNotOptimize(s);
     }
     bench.SetItemsProcessed(bench.iterations());
+  });
+  register_lie_group<System, lg::EulerTableau, lg::RkmkFlow>(c, "lie-euler");
+  register_lie_group<System, lg::HeunTableau, lg::RkmkFlow>(c, "rkmk2");
+  register_lie_group<System, lg::ClassicalRk4Tableau, lg::RkmkFlow>(c, "rkmk4");
+  register_lie_group<System, lg::CrouchGrossman3Tableau, lg::CrouchGrossmanFlow>(c, "cg3");
+  register_lie_group<System, lg::CrouchGrossman4aTableau, lg::CrouchGrossmanFlow>(c, "cg4");
+  benchmark::RegisterBenchmark((c.name + "/cf4").c_str(), [c](benchmark::State& bench) {
+    using Mech = baselines::AttitudeMechanics<System>;
+    const Mech mech(c.system);
+    run_lie_group_steps(bench, lg::CommutatorFree4Flow<Mech>(mech), c);
   });
 }
 

@@ -95,10 +95,7 @@ class BaselineMethod final : public Method {
                   const baselines::Vector<NX>& x, const baselines::Vector<NX>& v, Recorder& recorder) const {
     const Horizon& hz = scene.horizon;
     const auto y0 = ode.initial_state(R, Omega, x, v);
-    // The output grid: k = 0, every, 2 every, ..., and the last step.
-    std::vector<std::size_t> ks;
-    for (std::size_t k = 0; k <= hz.steps; k += hz.output_every) ks.push_back(k);
-    if (ks.back() != hz.steps) ks.push_back(hz.steps);
+    std::vector<std::size_t> ks = hz.output_steps();
     // A fixed-step solver ends a shorter last step exactly on t_final: an output time at the end
     // of the whole steps, not recorded (kUnrecorded), makes it step h up to there and then
     // t_final - (steps - 1) h (fixed_step_loop); adaptive ones just integrate to t_final.
@@ -143,6 +140,9 @@ class BaselineMethod final : public Method {
         break;
       case baselines::OutputInterpolation::DenseOutput:
         how = "odeint's dense output";
+        break;
+      case baselines::OutputInterpolation::Arkode:
+        how = "ARKODE's degree-5 Hermite interpolant (ERKStepGetDky / ARKStepGetDky)";
         break;
       case baselines::OutputInterpolation::Hermite:
         how = "the quintic Hermite interpolant of the accepted steps (y, f, y'' at their ends)";

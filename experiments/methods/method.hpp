@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "baselines/model.hpp"
@@ -113,6 +114,13 @@ struct MethodInfo {
 const std::vector<MethodInfo>& method_registry();
 /// The registered methods with `trait(info)` true, in registration order: a roster by traits.
 std::vector<const MethodInfo*> methods_where(const std::function<bool(const MethodInfo&)>& trait);
+/// The registered methods whose traits satisfy `query`, in registration order: trait names
+/// joined by " and ", each optionally preceded by "not ", e.g. "on_group and not variational"
+/// (the Lie group methods). Trait names: symmetric, variational, stays_on_group,
+/// preserves_momentum_map, on_group, fixed_step, adaptive. Throws InvalidInput("methods", ...)
+/// for an empty query or an unknown trait (naming the known ones). The study files' method lists
+/// take such a query ({ where = "..." }).
+std::vector<const MethodInfo*> methods_matching(std::string_view query);
 /// Throws InvalidInput for any option in `options` (a method that takes none: the one-step
 /// methods over the mechanics): model, rtol, atol, rotation_update.
 void refuse_options(const std::string& method, const MethodOptions& options);

@@ -70,24 +70,38 @@ Stats drive_flow(const Flow& flow, typename Flow::State& state, const Horizon& h
   return stats;
 }
 
-/// The state of a one-step scheme over continuous mechanics Mech: the configuration (attitudes
-/// R_i, positions x) and the velocity state w (body angular velocities and x', or the momenta of
-/// a multibody system's momentum form).
-template <baselines::Mechanics Mech>
-struct MechanicsState {
-  typename Mech::Config config;
-  typename Mech::Velocity w;
-};
+using baselines::MechanicsState;
 
-/// A state with a non-finite entry names it (integrate() stops there; argument-dependent lookup).
-template <baselines::Mechanics Mech>
-const char* non_finite_part(const MechanicsState<Mech>& s) {
-  for (const Mat3& R : s.config.R) {
-    if (!R.allFinite()) return "R";
-  }
-  if (!s.config.x.allFinite()) return "x";
-  if (!s.w.allFinite()) return "the velocity state";
-  return nullptr;
+/// Runs fn(mech, state) with the continuous mechanics of the scene's system (its binding's
+/// run_baseline) and its initial MechanicsState, and hands fn a writer
+/// record(state, sample-record) that fills the system's CSV record from a MechanicsState:
+///   fn(const Mech& mech, MechanicsState<Mech>& state, Sample& sample, M::State& record,
+///      const auto& to_state) -> Stats.
+template <class Fn>
+Stats with_mechanics(const Scene& scene, Fn&& fn) {
+  return visit_binding(scene.model, [&](auto binding, const auto& m) {
+    using Binding = decltype(binding);
+    using M = std::decay_t<decltype(m)>;
+    return Binding::run_baseline(m, [&](const auto& mech, const auto& R, const auto& Omega, const auto& x,
+                                        const auto& v) {
+      using Mech = std::decay_t<decltype(mech)>;
+      MechanicsState<Mech> state;
+      for (std::size_t i = 0; i < R.size(); ++i) state.config.R[i] = R[i];
+      state.config.x = x;
+      state.w = mech.velocity_state(state.config, Omega, v);
+      Sample sample = sample_of<M>();
+      typename M::State& record = state_of<M>(sample);
+      const auto to_state = [&mech](const MechanicsState<Mech>& s, typename M::State& out) {
+        struct {
+          typename Mech::Config config;
+          typename Mech::Rate rates;
+        } decoded{s.config, {}};
+        mech.rates(s.config, s.w, decoded.rates);
+        Binding::from_chart(decoded, out);
+      };
+      return fn(mech, state, sample, record, to_state);
+    });
+  });
 }
 
 /// A Method running Scheme::Flow<Mech> (see the top of this file) over the continuous mechanics
@@ -102,29 +116,10 @@ class MechanicsFlowMethod final : public Method {
   Fields settings(const Scene& /*scene*/) const override { return {{"state", std::string("R_i, x, w (mechanics)")}}; }
 
   Stats run(const Scene& scene, Recorder& recorder) const override {
-    return visit_binding(scene.model, [&](auto binding, const auto& m) {
-      using Binding = decltype(binding);
-      using M = std::decay_t<decltype(m)>;
-      return Binding::run_baseline(m, [&](const auto& mech, const auto& R, const auto& Omega, const auto& x,
-                                          const auto& v) {
-        using Mech = std::decay_t<decltype(mech)>;
-        const typename Scheme::template Flow<Mech> flow(mech);
-        MechanicsState<Mech> state;
-        for (std::size_t i = 0; i < R.size(); ++i) state.config.R[i] = R[i];
-        state.config.x = x;
-        state.w = mech.velocity_state(state.config, Omega, v);
-        Sample sample = sample_of<M>();
-        typename M::State& record = state_of<M>(sample);
-        const auto to_state = [&mech](const MechanicsState<Mech>& s, typename M::State& out) {
-          struct {
-            typename Mech::Config config;
-            typename Mech::Rate rates;
-          } decoded{s.config, {}};
-          mech.rates(s.config, s.w, decoded.rates);
-          Binding::from_chart(decoded, out);
-        };
-        return drive_flow(flow, state, scene.horizon, [](double t) { return t; }, to_state, sample, record, recorder);
-      });
+    return with_mechanics(scene, [&](const auto& mech, auto& state, Sample& sample, auto& record, const auto& to_state) {
+      using Mech = std::decay_t<decltype(mech)>;
+      const typename Scheme::template Flow<Mech> flow(mech);
+      return drive_flow(flow, state, scene.horizon, [](double t) { return t; }, to_state, sample, record, recorder);
     });
   }
 

@@ -78,6 +78,13 @@ struct Horizon {
   /// The steps of size h (all of them unless the last is shorter).
   std::size_t whole_steps() const { return shorter_last_step ? steps - 1 : steps; }
   double last_step() const { return shorter_last_step ? t_final - static_cast<double>(steps - 1) * h : h; }
+  /// The output grid's steps: k = 0, output_every, 2 output_every, ..., and steps.
+  std::vector<std::size_t> output_steps() const {
+    std::vector<std::size_t> ks;
+    for (std::size_t k = 0; k <= steps; k += output_every) ks.push_back(k);
+    if (ks.back() != steps) ks.push_back(steps);
+    return ks;
+  }
 };
 
 /// Validates h > 0, t_final > 0 (finite), at most 1e12 steps, 1 <= output_every <= 1e12, and
