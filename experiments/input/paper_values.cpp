@@ -3,8 +3,7 @@
 #include <stdexcept>
 #include <string_view>
 
-#include <toml++/toml.h>
-
+#include "experiments/input/toml_reader.hpp"
 #include "lgvi/inertia.hpp"
 
 namespace lgvi::experiments {
@@ -13,44 +12,55 @@ namespace {
 
 constexpr const char* kFile = "validation/paper_values.toml";
 
-double required(const toml::table& table, const std::string& path) {
-  const std::optional<double> v = table.at_path(path).value<double>();
-  if (!v) throw std::logic_error(std::string(kFile) + ": " + path + ": missing or not a number");
-  return *v;
+/// The number at `path` ("key.name", "key.name[0]"), if there: TomlReader's number rule.
+std::optional<double> optional_number(const TomlReader& r, const toml::table& table, const std::string& path) {
+  const toml::node* n = table.at_path(path).node();
+  if (n == nullptr) return std::nullopt;
+  return r.number(*n, path);
 }
 
-std::optional<double> optional_number(const toml::table& table, const std::string& path) {
-  return table.at_path(path).value<double>();
+double required(const TomlReader& r, const toml::table& table, const std::string& path) {
+  const toml::node* n = table.at_path(path).node();
+  if (n == nullptr || !n->is_number()) r.fail(path, "missing or not a number");
+  return r.number(*n, path);
 }
 
-PaperExample example(const toml::table& table, const std::string& key, const std::string& section) {
+PaperExample example(const TomlReader& r, const toml::table& table, const std::string& key,
+                     const std::string& section) {
   PaperExample e;
   e.key = key;
   e.section = section;
-  e.cost = required(table, key + ".cost");
-  e.terminal_violation = required(table, key + ".terminal_violation");
-  e.outer_iterations_approx = optional_number(table, key + ".outer_iterations_approx");
-  e.h = optional_number(table, key + ".h");
-  e.horizon = optional_number(table, key + ".horizon");
+  e.cost = required(r, table, key + ".cost");
+  e.terminal_violation = required(r, table, key + ".terminal_violation");
+  e.outer_iterations_approx = optional_number(r, table, key + ".outer_iterations_approx");
+  e.h = optional_number(r, table, key + ".h");
+  e.horizon = optional_number(r, table, key + ".horizon");
   return e;
 }
 
+/// A defect of the embedded file is the build's: std::logic_error, "FILE: FIELD: reason" (a
+/// syntax error without its line, "FILE: reason").
 PaperValues parse() {
+  const TomlReader r(kFile);
   toml::table table;
   try {
-    table = toml::parse(std::string_view(kPaperValuesToml), std::string_view(kFile));
-  } catch (const toml::parse_error& e) {
-    throw std::logic_error(std::string(kFile) + ": " + std::string(e.description()));
+    table = r.parse(kPaperValuesToml, "paper values");
+  } catch (const SceneError& e) {
+    throw std::logic_error(std::string(kFile) + ": " + e.reason());
   }
-  PaperValues p;
-  p.dumbbell = example(table, "dumbbell_orbit_transfer", "3.1");
-  p.pendulum = example(table, "pendulum_reorientation", "3.2");
-  p.cart_pendulum = example(table, "cart_pendulum", "4.1");
-  p.connected_bodies = example(table, "connected_bodies", "4.2");
-  p.decomposed_condition_min = required(table, "pendulum_reorientation.decomposed_condition_number_range[0]");
-  p.decomposed_condition_max = required(table, "pendulum_reorientation.decomposed_condition_number_range[1]");
-  p.undecomposed_condition = required(table, "pendulum_reorientation.undecomposed_condition_number");
-  return p;
+  try {
+    PaperValues p;
+    p.dumbbell = example(r, table, "dumbbell_orbit_transfer", "3.1");
+    p.pendulum = example(r, table, "pendulum_reorientation", "3.2");
+    p.cart_pendulum = example(r, table, "cart_pendulum", "4.1");
+    p.connected_bodies = example(r, table, "connected_bodies", "4.2");
+    p.decomposed_condition_min = required(r, table, "pendulum_reorientation.decomposed_condition_number_range[0]");
+    p.decomposed_condition_max = required(r, table, "pendulum_reorientation.decomposed_condition_number_range[1]");
+    p.undecomposed_condition = required(r, table, "pendulum_reorientation.undecomposed_condition_number");
+    return p;
+  } catch (const SceneError& e) {
+    throw std::logic_error(e.what());
+  }
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
-// The one TOML reader of the harness's input files: typed, validated access to a toml++ tree,
-// every failure a SceneError naming the file, the dotted field and the reason on one line
-// (scene_reader.hpp). The input room's own sources and the scene loader (scene/scene.cpp) include
-// it; everything else reads through SceneReader, whose tables are opaque handles.
+// The one TOML reader of the harness's input files (scenes, [ocp] tables, studies, the paper's
+// values): typed, validated access to a toml++ tree, every failure a SceneError naming the file,
+// the dotted field and the reason on one line (scene_reader.hpp). The input room's own sources,
+// the scene loader (scene/scene.cpp) and the study reader (suites/study.cpp) include it;
+// everything else reads through SceneReader, whose tables are opaque handles.
 #pragma once
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <memory>
+#include <optional>
 #include <span>
 #include <sstream>
 #include <string>
@@ -23,6 +25,7 @@
 #include <toml++/toml.h>
 
 #include "experiments/input/scene_reader.hpp"
+#include "experiments/input/toml_text.hpp"
 #include "experiments/output/csv_writer.hpp"
 #include "lgvi/so3.hpp"
 
@@ -110,13 +113,36 @@ inline std::string describe(const toml::node& n) {
   return type_name(n);
 }
 
+/// How a value of the wrong type is named in messages: with an array's size ("an array of 2
+/// elements": scenes) or by its kind only ("an array": studies).
+enum class TypeDescription { KindAndSize, Kind };
+
 /// Typed, validated access to the TOML tree; every failure is a SceneError naming the field.
 class TomlReader {
  public:
-  explicit TomlReader(std::string file) : file_(std::move(file)) {}
+  explicit TomlReader(std::string file, TypeDescription types = TypeDescription::KindAndSize)
+      : file_(std::move(file)), types_(types) {}
 
   [[noreturn]] void fail(const std::string& field, const std::string& reason) const {
     throw SceneError(file_, field, reason);
+  }
+
+  /// The document of `text`, checked first (check_toml_text; `kind` names the file in its
+  /// messages: "scene", "study"); a syntax error names "line L, column C".
+  toml::table parse(std::string_view text, const std::string& kind) const {
+    check_toml_text(text, file_, kind);
+    try {
+      return toml::parse(text, std::string_view(file_));
+    } catch (const toml::parse_error& e) {
+      const auto& begin = e.source().begin;
+      fail("line " + std::to_string(begin.line) + ", column " + std::to_string(begin.column),
+           std::string(e.description()));
+    }
+  }
+
+  /// The type of n as this reader's messages name it (TypeDescription).
+  std::string describe(const toml::node& n) const {
+    return types_ == TypeDescription::KindAndSize ? experiments::describe(n) : type_name(n);
   }
 
   /// Rejects keys outside `allowed`: typos must not silently fall back to defaults.
@@ -160,7 +186,8 @@ class TomlReader {
     return (this->*read)(required(t, key, prefix), join_key(prefix, key));
   }
 
-  double number(const toml::node& n, const std::string& field) const {
+  /// A finite float or integer.
+  double finite_number(const toml::node& n, const std::string& field) const {
     double v = 0.0;
     if (const auto* f = n.as_floating_point()) {
       v = f->get();
@@ -170,9 +197,25 @@ class TomlReader {
       fail(field, std::string("must be a number (got ") + describe(n) + ")");
     }
     if (!std::isfinite(v)) fail(field, "must be finite (got " + format_number(v) + ")");
+    return v;
+  }
+
+  /// A finite number, 0 or of magnitude in [kMinSceneMagnitude, kMaxSceneMagnitude].
+  double number(const toml::node& n, const std::string& field) const {
+    const double v = finite_number(n, field);
     if (v != 0.0 && !(std::abs(v) >= kMinSceneMagnitude && std::abs(v) <= kMaxSceneMagnitude)) {
       fail(field, "must be 0 or of magnitude between 1e-100 and 1e100 (got " + format_number(v) +
                       "; products of larger values overflow)");
+    }
+    return v;
+  }
+
+  /// A finite number > 0 in [kMinSceneMagnitude, kMaxSceneMagnitude].
+  double positive(const toml::node& n, const std::string& field) const {
+    const double v = finite_number(n, field);
+    if (!(v > 0.0)) fail(field, "must be > 0 (got " + format_number(v) + ")");
+    if (v < kMinSceneMagnitude || v > kMaxSceneMagnitude) {
+      fail(field, "must be between 1e-100 and 1e100 (got " + format_number(v) + ")");
     }
     return v;
   }
@@ -181,6 +224,48 @@ class TomlReader {
     const auto* i = n.as_integer();
     if (i == nullptr) fail(field, std::string("must be an integer (got ") + describe(n) + ")");
     return i->get();
+  }
+
+  std::int64_t integer_at_least(const toml::node& n, const std::string& field, std::int64_t min) const {
+    const std::int64_t i = integer(n, field);
+    if (i < min) fail(field, "must be an integer >= " + std::to_string(min) + " (got " + std::to_string(i) + ")");
+    return i;
+  }
+
+  /// A sweep: a non-empty array.
+  const toml::array& sweep(const toml::node& n, const std::string& field) const {
+    const toml::array* a = n.as_array();
+    if (a == nullptr) fail(field, std::string("must be an array (got ") + describe(n) + ")");
+    if (a->empty()) fail(field, "is an empty sweep (give at least one value)");
+    return *a;
+  }
+
+  /// A sweep of numbers > 0 (positive; at most `max` when given), without repeats.
+  std::vector<double> positive_sweep(const toml::node& n, const std::string& field,
+                                     std::optional<double> max = std::nullopt) const {
+    std::vector<double> v;
+    const toml::array& a = sweep(n, field);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::string f = field + "[" + std::to_string(i) + "]";
+      const double x = positive(*a.get(i), f);
+      if (max && x > *max) fail(f, "must be at most " + format_number(*max) + " (got " + format_number(x) + ")");
+      if (std::find(v.begin(), v.end(), x) != v.end()) fail(f, "repeats " + format_number(x));
+      v.push_back(x);
+    }
+    return v;
+  }
+
+  /// A sweep of integers >= 1, without repeats.
+  std::vector<std::int64_t> count_sweep(const toml::node& n, const std::string& field) const {
+    std::vector<std::int64_t> v;
+    const toml::array& a = sweep(n, field);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::string f = field + "[" + std::to_string(i) + "]";
+      const std::int64_t x = integer_at_least(*a.get(i), f, 1);
+      if (std::find(v.begin(), v.end(), x) != v.end()) fail(f, "repeats " + std::to_string(x));
+      v.push_back(x);
+    }
+    return v;
   }
 
   std::string string(const toml::node& n, const std::string& field) const {
@@ -378,6 +463,7 @@ class TomlReader {
 
  private:
   std::string file_;
+  TypeDescription types_;
 };
 
 }  // namespace lgvi::experiments

@@ -15,17 +15,6 @@ double Diagnostics::max_energy_error() const {
   return energy_error_is_relative() ? max_abs_energy_error / std::abs(energy0) : max_abs_energy_error;
 }
 
-std::string units_of(const std::string& system) {
-  std::string units;
-  [&]<std::size_t... I>(std::index_sequence<I...>) {
-    ((system == std::variant_alternative_t<I, Model>::name
-          ? void(units = SystemBinding<std::variant_alternative_t<I, Model>>::units())
-          : void()),
-     ...);
-  }(std::make_index_sequence<std::variant_size_v<Model>>{});
-  return units.empty() ? SystemBinding<FreeBodyModel>::units() : units;
-}
-
 std::vector<std::string> Recorder::columns(const Model& model, bool quaternion_column) {
   std::vector<std::string> c = {"t"};
   visit_binding(model, [&](auto binding, const auto&) { decltype(binding)::state_columns(c); });

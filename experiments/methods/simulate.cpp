@@ -98,7 +98,7 @@ Fields RunSummary::to_fields() const {
       {"momentum0_norm", d.momentum0_norm},
       {"max_momentum_drift", d.max_momentum_error},  // absolute: |m - m0|, momentum units
       {"max_momentum_drift_absolute", d.max_momentum_error},
-      {"units", units_of(system)},
+      {"units", system_units(system)},
       {"csv", csv.filename().string()},
   };
   f.insert(f.end(), rest.begin(), rest.end());
@@ -128,7 +128,7 @@ RunSummary simulate(const Scene& scene, const Method& method, const SimulateOpti
                        {"t_final", scene.horizon.t_final},
                        {"output_every", as_int(scene.horizon.output_every)},
                        {"momentum_map", s.momentum_map},
-                       {"units", units_of(s.system)},
+                       {"units", system_units(s.system)},
                        {"error_columns", std::string("energy_error = E - E0 and momentum_error = |m - m0| are "
                                                      "absolute (the units above); orthogonality_error = "
                                                      "|R^T R - I|_F, determinant_error = |det R - 1|")},

@@ -52,8 +52,5 @@ RunSummary simulate(const Scene& scene, const Method& method, const SimulateOpti
 const char* git_describe();
 /// The project's version (CMake's PROJECT_VERSION), recorded in every summary and CSV.
 const char* version();
-/// The units of a system's CSV columns and diagnostics, one line: SI for the physical systems,
-/// the normalized units of the dumbbell (mass 1, orbit radius 1, mu = 1): its binding's units().
-std::string units_of(const std::string& system);
 
 }  // namespace lgvi::experiments

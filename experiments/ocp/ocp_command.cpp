@@ -29,20 +29,6 @@ namespace {
 using ocp_output::join;
 using ocp_output::values;
 
-std::vector<std::string> multiplier_columns(bool translation) {
-  std::vector<std::string> c;
-  const char* blocks_t[] = {"lambda_R", "lambda_x", "lambda_Pi", "lambda_p"};
-  const char* blocks_r[] = {"lambda_R", "lambda_Pi"};
-  if (translation) {
-    for (const char* b : blocks_t)
-      for (int i = 1; i <= 3; ++i) c.push_back(std::string(b) + std::to_string(i));
-  } else {
-    for (const char* b : blocks_r)
-      for (int i = 1; i <= 3; ++i) c.push_back(std::string(b) + std::to_string(i));
-  }
-  return c;
-}
-
 void write_history(const fs::path& file, const ocp::ShootingSummary& S, const Fields& metadata) {
   CsvWriter csv(file, {"iteration", "violation", "cost", "step_length", "backtracks", "cond_sensitivity",
                        "cond_inverted", "step_norm", "group_residual", "group_block", "sweeps", "seconds"});
@@ -55,24 +41,14 @@ void write_history(const fs::path& file, const ocp::ShootingSummary& S, const Fi
   csv.commit(metadata);
 }
 
-template <class Model>
+/// t, the state, the controls and the multipliers at each step (the binding B names the columns).
+template <class B, class Model = typename B::IndirectModel>
 void write_trajectory(const fs::path& file, const ocp::ShootingResult<Model>& result,
                       const ocp::StateMultiplierFlow<Model>& flow, const Fields& metadata) {
   std::vector<std::string> cols = {"t"};
-  for (int i = 1; i <= 3; ++i)
-    for (int j = 1; j <= 3; ++j) cols.push_back("R" + std::to_string(i) + std::to_string(j));
-  if constexpr (Model::has_translation) {
-    for (int i = 1; i <= 3; ++i) cols.push_back("x" + std::to_string(i));
-  }
-  for (int i = 1; i <= 3; ++i) cols.push_back("Omega" + std::to_string(i));
-  if constexpr (Model::has_translation) {
-    for (int i = 1; i <= 3; ++i) cols.push_back("v" + std::to_string(i));
-    for (int i = 1; i <= 3; ++i) cols.push_back("um" + std::to_string(i));
-    for (int i = 1; i <= 3; ++i) cols.push_back("uf" + std::to_string(i));
-  } else {
-    for (int i = 1; i <= 3; ++i) cols.push_back("u" + std::to_string(i));
-  }
-  for (const std::string& c : multiplier_columns(Model::has_translation)) cols.push_back(c);
+  B::state_columns(cols);
+  B::control_columns(cols);
+  B::multiplier_columns(cols);
   CsvWriter csv(file, cols);
   const auto& sw = result.sweep;
   std::vector<double> row;
@@ -80,16 +56,7 @@ void write_trajectory(const fs::path& file, const ocp::ShootingResult<Model>& re
     const auto& s = sw.states[k];
     row.clear();
     row.push_back(static_cast<double>(k) * flow.h());
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) row.push_back(s.R(i, j));
-    if constexpr (Model::has_translation) {
-      for (int i = 0; i < 3; ++i) row.push_back(s.x(i));
-    }
-    const Vec3 Omega = flow.lgvi().omega(s);
-    for (int i = 0; i < 3; ++i) row.push_back(Omega(i));
-    if constexpr (Model::has_translation) {
-      for (int i = 0; i < 3; ++i) row.push_back(s.v(i));
-    }
+    B::state_row(row, flow.lgvi(), s);
     const typename Model::VecU u = k < sw.controls.size() ? sw.controls[k] : Model::VecU::Zero();
     for (int i = 0; i < Model::nu; ++i) row.push_back(u(i));
     const typename Model::VecS l = k < sw.multipliers.size() ? sw.multipliers[k] : Model::VecS::Zero();
@@ -99,7 +66,7 @@ void write_trajectory(const fs::path& file, const ocp::ShootingResult<Model>& re
   csv.commit(metadata);
 }
 
-template <class Model>
+template <class B, class Model = typename B::IndirectModel>
 int solve_and_write(const typename Model::System& system, const ocp::TransferProblem& problem,
                     const ocp::ShootingOptions& options, const ocp_output::Run& run, const OcpCommand& cmd,
                     const std::string& command_line, std::ostream& out, std::ostream& err) {
@@ -113,7 +80,6 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
   // Violation by parts (the norm is the 2-norm of all of them, see lgvi/ocp/indirect.hpp).
   const Eigen::VectorXd& r = S.residual;
   const bool have_r = r.size() > 0;
-  const int nq = Model::nq;
   Fields f = {
       {"system", run.system},
       {"method", std::string("indirect shooting (Newton-Armijo on lambda_0)")},
@@ -132,33 +98,15 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
       {"converged", S.converged()},
       {"cost", S.cost},
       {"violation", S.violation},
-      {"violation_norm", std::string(Model::has_translation
-                                         ? "2-norm of [log(R_f^T R_N)^vee; x_N - x_f; Omega_N - Omega_f; v_N - v_f]"
-                                         : "2-norm of [log(R_f^T R_N)^vee; Omega_N - Omega_f]")},
-      {"violation_rotation", have_r ? r.head(3).norm() : S.violation},
+      {"violation_norm", std::string(B::violation_norm)},
   };
-  if constexpr (Model::has_translation) {
-    f.push_back({"violation_position", have_r ? r.segment(3, 3).norm() : S.violation});
+  for (const ResidualPart& p : B::violation_parts) {
+    f.push_back({p.name, have_r ? r.segment(p.offset, p.size).norm() : S.violation});
   }
-  f.push_back({"violation_angular_velocity", have_r ? r.segment(nq, 3).norm() : S.violation});
-  if constexpr (Model::has_translation) {
-    f.push_back({"violation_velocity", have_r ? r.segment(nq + 3, 3).norm() : S.violation});
-  }
-  if constexpr (Model::has_translation) {
-    // The dumbbell's cost split into the moment and force controls (W = I; with another W the
-    // split of u^T W u is not defined and the parts are left out).
-    if (ocp_output::weight_text(options.W) == "identity") {
-    double moment = 0.0, force = 0.0;
-    const auto [c0, c1] = impulse_weights(options.form, options.h);
-    const auto& u = result.sweep.controls;
-    for (std::size_t j = 0; j < u.size(); ++j) {
-      const double w = j == 0 ? c0 : j == S.steps ? c1 : c0 + c1;
-      moment += 0.5 * w * u[j].template head<3>().squaredNorm();
-      force += 0.5 * w * u[j].template tail<3>().squaredNorm();
-    }
-    f.push_back({"cost_moment", moment});
-    f.push_back({"cost_force", force});
-    }
+  // The cost by the control's parts (W = I; with another W the split of u^T W u is not defined
+  // and the parts are left out).
+  if (ocp_output::weight_text(options.W) == "identity") {
+    B::cost_parts(options.form, options.h, S.steps, result.sweep.controls, f);
   }
   const Fields rest = {
       {"outer_iterations", std::int64_t{S.iterations}},
@@ -190,7 +138,7 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
   write_history(history, S, f);
   if (!result.sweep.states.empty()) {
     const ocp::StateMultiplierFlow<Model> flow(system, problem, options.form, options.h, options.W, options.rotation);
-    write_trajectory<Model>(trajectory, result, flow, f);
+    write_trajectory<B>(trajectory, result, flow, f);
   }
   // One object; the vectors as arrays of numbers (their text form stays in the CSVs' metadata).
   write_json_object(files.summary, f,
@@ -369,7 +317,7 @@ int run_indirect(const Scene& scene, const M& m, const OcpCommand& cmd, const st
     const ocp::TransferProblem problem =
         B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
     const auto system = ocp_output::with_sphere_radius(B::system(m), cmd.sphere_radius);
-    return solve_and_write<typename B::IndirectModel>(system, problem, options, ocp_output::Run::of(scene), cmd,
+    return solve_and_write<B>(system, problem, options, ocp_output::Run::of(scene), cmd,
                                                       command_line, out, err);
   }
 }

@@ -88,7 +88,9 @@ int solve_and_write(const typename Model::System& system, const typename Model::
       {"constraint_violation", S.constraint_violation},
       {"constraints", std::int64_t{S.constraints}},
   };
-  if (have_r) B::violation_parts(r, f);
+  if (have_r) {
+    for (const ResidualPart& p : B::violation_parts) f.push_back({p.name, r.segment(p.offset, p.size).norm()});
+  }
   const Fields rest = {
       {"iterations", std::int64_t{S.iterations}},
       {"evaluations", std::int64_t{S.evaluations}},

@@ -23,7 +23,6 @@
 #include "experiments/scene/ocp_scene.hpp"
 #include "experiments/input/scene_reader.hpp"
 #include "experiments/input/toml_reader.hpp"
-#include "experiments/input/toml_text.hpp"
 #include "experiments/systems/systems.hpp"
 #include "lgvi/so3.hpp"
 
@@ -110,15 +109,7 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every, LastSt
 Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneOverrides& overrides) {
   const std::string file_name = file.string();
   const TomlReader r(file_name);
-  check_toml_text(toml_text, file_name, "scene");
-  toml::table doc;
-  try {
-    doc = toml::parse(toml_text, std::string_view(file_name));
-  } catch (const toml::parse_error& e) {
-    const auto& begin = e.source().begin;
-    r.fail("line " + std::to_string(begin.line) + ", column " + std::to_string(begin.column),
-           std::string(e.description()));
-  }
+  const toml::table doc = r.parse(toml_text, "scene");
 
   // Unknown keys first, everywhere: a misspelt key is the likeliest cause of a missing one.
   r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control", "ocp"});

@@ -104,11 +104,6 @@ SuiteCase simulate_case(const std::string& id, const std::string& group, Simulat
   return c;
 }
 
-SystemLabels system_labels(const std::string& system) {
-  // A row without a known system (no run): the free body's SI labels.
-  return system_labels_of(system).value_or(SystemBinding<FreeBodyModel>::labels());
-}
-
 namespace {
 
 /// The curve-list file the scripts load (gnuplot -c takes at most 9 arguments): n, file[i],

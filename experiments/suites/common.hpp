@@ -59,8 +59,6 @@ const std::vector<std::string>& timing_columns();
 SuiteCase simulate_case(const std::string& id, const std::string& group, SimulateSpec spec, const MethodSpec& m,
                         Expectation expect, std::shared_ptr<const ReferenceRun> reference = nullptr);
 
-/// Axis labels of a system in its units (gnuplot enhanced text; the system's binding).
-SystemLabels system_labels(const std::string& system);
 
 /// A figure of one CSV column against time, one curve per case of `rows` (failed runs drawn up
 /// to their last good step). log_x: logarithmic time axis (t = 0 left out).

@@ -18,21 +18,30 @@ namespace {
 
 constexpr const char* kScene = "free-body";
 
-FreeBodyModel& free_body(Scene& scene) {
-  auto* m = std::get_if<FreeBodyModel>(&scene.model);
-  if (m == nullptr) throw InvalidInput("scene", scene.name + ": the extremes suite needs a free-body scene");
-  return *m;
+/// Calls f(binding, model) on the scene's body: a system whose binding sets the inertia (the free
+/// body); another system is refused.
+template <class S, class F>
+void with_body(S& scene, F&& f) {
+  visit_binding(scene.model, [&](auto binding, auto& m) {
+    using B = decltype(binding);
+    if constexpr (requires(std::decay_t<decltype(m)>& edited) { B::set_inertia(edited, Mat3()); }) {
+      f(binding, m);
+    } else {
+      throw InvalidInput("scene", scene.name + ": the extremes suite needs a free-body scene");
+    }
+  });
 }
 
 SceneEdit set_omega(const Vec3& omega, const std::string& description) {
-  return {description, [omega](Scene& s) { free_body(s).initial.Omega = omega; }};
+  return {description, [omega](Scene& s) { with_body(s, [&](auto, auto& m) { m.initial.Omega = omega; }); }};
 }
 
 SceneEdit set_inertia_and_omega(const Vec3& J, const Vec3& omega, const std::string& description) {
   return {description, [J, omega](Scene& s) {
-            FreeBodyModel& m = free_body(s);
-            m.system = FreeRigidBody(J.asDiagonal().toDenseMatrix());
-            m.initial.Omega = omega;
+            with_body(s, [&](auto binding, auto& m) {
+              decltype(binding)::set_inertia(m, J.asDiagonal().toDenseMatrix());
+              m.initial.Omega = omega;
+            });
           }};
 }
 
@@ -56,7 +65,8 @@ Suite extremes_suite(const SuiteParams& params) {
   s.columns = simulation_columns();
   const bool quick = params.quick;
   const Scene base = load_scene(resolve_scene(kScene, params.scenes_dir));
-  const Vec3 omega0 = std::get<FreeBodyModel>(base.model).initial.Omega;
+  Vec3 omega0;
+  with_body(base, [&](auto, const auto& m) { omega0 = m.initial.Omega; });
   const auto add = [&](const std::string& group, const std::string& id, const SimulateSpec& spec, const MethodSpec& m,
                        Expectation e) { s.cases.push_back(simulate_case(group + "-" + id + "-" + m.id(), group, spec, m, e)); };
 

@@ -12,6 +12,7 @@
 
 #include "experiments/suites/study.hpp"
 #include "experiments/suites/common.hpp"
+#include "experiments/systems/systems.hpp"
 
 namespace lgvi::experiments::suites {
 

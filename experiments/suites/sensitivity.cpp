@@ -42,6 +42,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -59,7 +60,6 @@
 #include "lgvi/ocp/linearization.hpp"
 #include "lgvi/ocp/models.hpp"
 #include "lgvi/so3.hpp"
-#include "lgvi/systems/free_rigid_body.hpp"
 #include "lgvi/systems/pendulum.hpp"
 
 namespace lgvi::experiments::suites {
@@ -87,39 +87,6 @@ constexpr double kFdRtol = 1e-13;
 constexpr double kReferenceRtol = 1e-12;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-/// The attitude system of a case: the scene's parameters and initial state. The LGVI side is
-/// written for the pendulum model of lgvi/ocp/models.hpp; the free body is the pendulum with
-/// rho = 0 and g = 0, whose moment m g rho x a and its derivatives vanish identically (the
-/// kicks add exact zeros), so its LGVI and linearization are the free body's.
-struct AttitudeProblem {
-  std::string system;  ///< "pendulum" or "free-body"
-  std::optional<Pendulum3D> pendulum;    ///< the LGVI's system (free body: rho = g = 0)
-  std::optional<FreeRigidBody> free_body;  ///< the continuous free body
-  Mat3 R0 = Mat3::Identity();
-  Vec3 Omega0 = Vec3::Zero();
-};
-
-AttitudeProblem load_problem(const std::string& scene_name, const fs::path& scenes_dir) {
-  const Scene scene = load_scene(resolve_scene(scene_name, scenes_dir));
-  AttitudeProblem p;
-  if (const auto* m = std::get_if<PendulumModel>(&scene.model)) {
-    p.system = "pendulum";
-    p.pendulum.emplace(m->system);
-    p.R0 = m->initial.R;
-    p.Omega0 = m->initial.Omega;
-  } else if (const auto* f = std::get_if<FreeBodyModel>(&scene.model)) {
-    p.system = "free-body";
-    p.free_body.emplace(f->system);
-    p.pendulum.emplace(1.0, f->system.inertia.J, Vec3::Zero(), 0.0);
-    p.R0 = f->initial.R;
-    p.Omega0 = f->initial.Omega;
-  } else {
-    throw InvalidInput("scene", scene_name + ": the sensitivity suite needs a pendulum or free-body scene (got " +
-                                    scene.system() + ")");
-  }
-  return p;
-}
 
 /// Final attitude and rate of a flow from (R0, Omega0); message says why not ok.
 struct EndState {
@@ -244,22 +211,41 @@ Linearization lgvi_linearization(const Pendulum3D& system, const Mat3& R0, const
 
 // --- CVODES ----------------------------------------------------------------------------------
 
-/// The continuous system of a problem on the quaternion model, with its flow and transition.
-template <class S>
-struct Continuous {
-  using Ode = baselines::CoordinateOde<baselines::QuaternionChart, baselines::AttitudeMechanics<S>>;
-  Ode ode;
-  explicit Continuous(const S& system) : ode(baselines::AttitudeMechanics<S>(system)) {}
+/// CVODES's transition matrix from (R0, Omega0) over [0, t1], and its cost.
+struct Transition {
+  bool ok = false;
+  std::string message;
+  Mat6 Phi = Mat6::Zero();
+  Stats stats;
+};
 
-  Flow flow(double t1, double rtol) const {
+/// The continuous system of a problem on the quaternion model: its flow and transition matrix.
+class ContinuousSystem {
+ public:
+  virtual ~ContinuousSystem() = default;
+  /// The flow over [0, t1] at rtol (valid while this object lives).
+  virtual Flow flow(double t1, double rtol) const = 0;
+  virtual Transition transition(const Mat3& R0, const Vec3& Omega0, double t1, double rtol) const = 0;
+};
+
+template <class S>
+class Continuous final : public ContinuousSystem {
+ public:
+  using Ode = baselines::CoordinateOde<baselines::QuaternionChart, baselines::AttitudeMechanics<S>>;
+  /// Keeps a copy of the system (the mechanics refer to it).
+  explicit Continuous(const S& system) : system_(system), ode_(baselines::AttitudeMechanics<S>(system_)) {}
+  Continuous(const Continuous&) = delete;
+  Continuous& operator=(const Continuous&) = delete;
+
+  Flow flow(double t1, double rtol) const override {
     return [this, t1, rtol](const Mat3& R0, const Vec3& Omega0) {
-      const Eigen::VectorXd y0 = ode.initial_state({R0}, {Omega0});
+      const Eigen::VectorXd y0 = ode_.initial_state({R0}, {Omega0});
       const std::array<double, 2> times = {0.0, t1};
       Eigen::VectorXd y1 = y0;
       baselines::SolverSettings settings;
       settings.rtol = rtol;
       settings.atol = rtol;
-      const Stats st = baselines::integrate("cvode-adams", ode, std::span<const double>(y0.data(), y0.size()), times, settings,
+      const Stats st = baselines::integrate("cvode-adams", ode_, std::span<const double>(y0.data(), y0.size()), times, settings,
                                             [&](std::size_t, double, const double* v) {
                                               y1 = Eigen::Map<const Eigen::VectorXd>(v, y0.size());
                                               return true;
@@ -276,17 +262,11 @@ struct Continuous {
     };
   }
 
-  struct Transition {
-    bool ok = false;
-    std::string message;
-    Mat6 Phi = Mat6::Zero();
-    Stats stats;
-  };
-  Transition transition(const Mat3& R0, const Vec3& Omega0, double t1, double rtol) const {
-    const Eigen::VectorXd y0 = ode.initial_state({R0}, {Omega0});
+  Transition transition(const Mat3& R0, const Vec3& Omega0, double t1, double rtol) const override {
+    const Eigen::VectorXd y0 = ode_.initial_state({R0}, {Omega0});
     baselines::SensitivitySettings settings;
     settings.rtol = rtol;
-    const auto r = baselines::integrate_sensitivities(ode, y0, Eigen::MatrixXd::Identity(y0.size(), y0.size()), 0.0,
+    const auto r = baselines::integrate_sensitivities(ode_, y0, Eigen::MatrixXd::Identity(y0.size(), y0.size()), 0.0,
                                                       t1, settings);
     Transition out;
     out.stats = r.stats;
@@ -295,16 +275,39 @@ struct Continuous {
       return out;
     }
     out.ok = true;
-    out.Phi = baselines::tangent_transition(ode, y0, r.y, r.S);
+    out.Phi = baselines::tangent_transition(ode_, y0, r.y, r.S);
     return out;
   }
+
+ private:
+  S system_;
+  Ode ode_;
 };
 
-/// Runs `fn` with the problem's continuous system (the pendulum, or the free body).
-template <class Fn>
-auto with_continuous(const AttitudeProblem& p, Fn&& fn) {
-  if (p.free_body) return fn(Continuous<FreeRigidBody>(*p.free_body));
-  return fn(Continuous<Pendulum3D>(*p.pendulum));
+/// The attitude system of a case: the scene's parameters and initial state. The LGVI side is
+/// written for the pendulum model of lgvi/ocp/models.hpp: the binding gives the system as a
+/// pendulum (SystemBinding::as_pendulum; the free body's has rho = 0 and g = 0, so its LGVI and
+/// linearization are the free body's). The continuous side is the scene's own system.
+struct AttitudeProblem {
+  std::string system;  ///< the scene's system, "pendulum" or "free-body"
+  Pendulum3D pendulum;
+  std::shared_ptr<const ContinuousSystem> continuous;
+  Mat3 R0 = Mat3::Identity();
+  Vec3 Omega0 = Vec3::Zero();
+};
+
+AttitudeProblem load_problem(const std::string& scene_name, const fs::path& scenes_dir) {
+  const Scene scene = load_scene(resolve_scene(scene_name, scenes_dir));
+  return visit_binding(scene.model, [&](auto binding, const auto& m) -> AttitudeProblem {
+    if constexpr (requires { decltype(binding)::as_pendulum(m); }) {
+      using System = std::decay_t<decltype(m.system)>;
+      return {scene.system(), decltype(binding)::as_pendulum(m), std::make_shared<const Continuous<System>>(m.system),
+              m.initial.R, m.initial.Omega};
+    } else {
+      throw InvalidInput("scene", scene_name + ": the sensitivity suite needs a pendulum or free-body scene (got " +
+                                      scene.system() + ")");
+    }
+  });
 }
 
 /// The continuous reference of one (scene, T), computed once on first use (thread-safe) and
@@ -328,17 +331,14 @@ class ContinuousReference {
       try {
         const auto t0 = Clock::now();
         const AttitudeProblem p = load_problem(scene_, scenes_dir);
-        with_continuous(p, [&](const auto& c) {
-          const auto tr = c.transition(p.R0, p.Omega0, T_, kReferenceRtol);
-          if (!tr.ok) {
-            error_ = "reference transition (" + description() + "): " + tr.message;
-            return 0;
-          }
+        const Transition tr = p.continuous->transition(p.R0, p.Omega0, T_, kReferenceRtol);
+        if (!tr.ok) {
+          error_ = "reference transition (" + description() + "): " + tr.message;
+        } else {
           data_.Phi = tr.Phi;
-          data_.fd = central_differences(c.flow(T_, kFdRtol), p.R0, p.Omega0);
+          data_.fd = central_differences(p.continuous->flow(T_, kFdRtol), p.R0, p.Omega0);
           if (!data_.fd.ok) error_ = "reference differences: " + data_.fd.message;
-          return 0;
-        });
+        }
         data_.seconds = seconds_since(t0);
       } catch (const std::exception& e) {
         error_ = std::string("continuous reference: ") + e.what();
@@ -395,29 +395,22 @@ class SensitivityJob final : public Job {
       const std::size_t steps = lgvi_steps();
       f.push_back({"h", method_.value});
       const auto t0 = Clock::now();
-      const Linearization lin = lgvi_linearization(*p.pendulum, p.R0, p.Omega0, method_.value, steps);
+      const Linearization lin = lgvi_linearization(p.pendulum, p.R0, p.Omega0, method_.value, steps);
       seconds = seconds_since(t0);
       f.push_back({"steps", static_cast<std::int64_t>(steps)});
       f.push_back({"newton_iterations", lin.newton_iterations});
       if (!lin.ok) return {false, "rotation-update-failed", lin.message, f};
       Phi = lin.Phi;
-      fd = central_differences(lgvi_flow(*p.pendulum, method_.value, steps), p.R0, p.Omega0);
+      fd = central_differences(lgvi_flow(p.pendulum, method_.value, steps), p.R0, p.Omega0);
     } else {
       f.push_back({"rtol", method_.value});
-      bool ok = true;
-      std::string message;
-      with_continuous(p, [&](const auto& c) {
-        const auto tr = c.transition(p.R0, p.Omega0, T_, method_.value);
-        seconds = tr.stats.wall_seconds;
-        f.push_back({"steps", static_cast<std::int64_t>(tr.stats.steps)});
-        f.push_back({"rhs_evaluations", static_cast<std::int64_t>(tr.stats.rhs_evaluations)});
-        f.push_back({"jacobian_evaluations", static_cast<std::int64_t>(tr.stats.jacobian_evaluations)});
-        ok = tr.ok;
-        message = tr.message;
-        Phi = tr.Phi;
-        return 0;
-      });
-      if (!ok) return {false, "solver-failed", message, f};
+      const Transition tr = p.continuous->transition(p.R0, p.Omega0, T_, method_.value);
+      seconds = tr.stats.wall_seconds;
+      f.push_back({"steps", static_cast<std::int64_t>(tr.stats.steps)});
+      f.push_back({"rhs_evaluations", static_cast<std::int64_t>(tr.stats.rhs_evaluations)});
+      f.push_back({"jacobian_evaluations", static_cast<std::int64_t>(tr.stats.jacobian_evaluations)});
+      if (!tr.ok) return {false, "solver-failed", tr.message, f};
+      Phi = tr.Phi;
       fd = ref.fd;
     }
     f.push_back({"seconds", seconds});

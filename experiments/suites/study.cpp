@@ -15,7 +15,7 @@
 #include "experiments/output/data_dir.hpp"
 #include "experiments/systems/exact_reference.hpp"
 #include "experiments/scene/scene.hpp"
-#include "experiments/input/toml_text.hpp"
+#include "experiments/input/toml_reader.hpp"
 #include "experiments/suites/journal.hpp"
 #include "experiments/suites/common.hpp"
 
@@ -38,54 +38,18 @@ constexpr std::string_view kReferenceKeys[] = {"kind", "method", "model", "h", "
 /// The bound `simulate --rtol` states: above 0.1 a run is no solution.
 constexpr double kMaxRtol = 0.1;
 
-std::string number_text(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.12g", x);
-  return buf;
-}
-
 std::string join(std::span<const std::string_view> items) {
   std::string s;
   for (const std::string_view i : items) s += (s.empty() ? "" : ", ") + std::string(i);
   return s;
 }
 
-const char* type_of(const toml::node& n) {
-  switch (n.type()) {
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a float";
-    case toml::node_type::boolean: return "a boolean";
-    default: return "a date/time";
-  }
-}
-
-/// The reason part of an InvalidInput ("field: reason").
-std::string reason_of(const InvalidInput& e) {
-  const std::string what = e.what();
-  const std::string prefix = e.field() + ": ";
-  return what.starts_with(prefix) ? what.substr(prefix.size()) : what;
-}
-
-/// Typed access to the study's TOML tree; every failure a SceneError naming file and field.
-class StudyReader {
+/// The study's TOML tree with its [quick] overlay; the value rules are TomlReader's (a wrong
+/// type named by its kind only).
+class StudyReader : public TomlReader {
  public:
   StudyReader(std::string file, const toml::table& doc, const toml::table* quick)
-      : file_(std::move(file)), doc_(doc), quick_(quick) {}
-
-  [[noreturn]] void fail(const std::string& field, const std::string& reason) const {
-    throw SceneError(file_, field, reason);
-  }
-
-  void check_keys(const toml::table& t, const std::string& prefix, std::span<const std::string_view> allowed) const {
-    for (auto&& [key, value] : t) {
-      (void)value;
-      if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
-      fail(prefix + std::string(key.str()), "unknown key (expected one of: " + join(allowed) + ")");
-    }
-  }
+      : TomlReader(std::move(file), TypeDescription::Kind), doc_(doc), quick_(quick) {}
 
   /// A top-level value with its field name: from [quick] when the quick form is run and the
   /// table has it, else from the top level; node is null when neither has it.
@@ -100,81 +64,7 @@ class StudyReader {
     return {doc_.get(key), std::string(key)};
   }
 
-  std::string string(const toml::node& n, const std::string& field) const {
-    const auto* s = n.as_string();
-    if (s == nullptr) fail(field, std::string("must be a string (got ") + type_of(n) + ")");
-    return s->get();
-  }
-
-  double number(const toml::node& n, const std::string& field) const {
-    double v = 0.0;
-    if (const auto* f = n.as_floating_point()) {
-      v = f->get();
-    } else if (const auto* i = n.as_integer()) {
-      v = static_cast<double>(i->get());
-    } else {
-      fail(field, std::string("must be a number (got ") + type_of(n) + ")");
-    }
-    if (!std::isfinite(v)) fail(field, "must be finite (got " + number_text(v) + ")");
-    return v;
-  }
-
-  double positive(const toml::node& n, const std::string& field) const {
-    const double v = number(n, field);
-    if (!(v > 0.0)) fail(field, "must be > 0 (got " + number_text(v) + ")");
-    if (v < kMinSceneMagnitude || v > kMaxSceneMagnitude) {
-      fail(field, "must be between 1e-100 and 1e100 (got " + number_text(v) + ")");
-    }
-    return v;
-  }
-
-  std::int64_t integer(const toml::node& n, const std::string& field, std::int64_t min) const {
-    const auto* i = n.as_integer();
-    if (i == nullptr) fail(field, std::string("must be an integer (got ") + type_of(n) + ")");
-    if (i->get() < min) fail(field, "must be an integer >= " + std::to_string(min) + " (got " + std::to_string(i->get()) + ")");
-    return i->get();
-  }
-
-  /// A non-empty array.
-  const toml::array& array(const toml::node& n, const std::string& field) const {
-    const toml::array* a = n.as_array();
-    if (a == nullptr) fail(field, std::string("must be an array (got ") + type_of(n) + ")");
-    if (a->empty()) fail(field, "is an empty sweep (give at least one value)");
-    return *a;
-  }
-
-  /// A non-empty array of numbers > 0 (at most `max` when given), without repeats.
-  std::vector<double> positive_list(const toml::node& n, const std::string& field,
-                                    std::optional<double> max = std::nullopt) const {
-    std::vector<double> v;
-    const toml::array& a = array(n, field);
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      const std::string f = field + "[" + std::to_string(i) + "]";
-      const double x = positive(*a.get(i), f);
-      if (max && x > *max) fail(f, "must be at most " + number_text(*max) + " (got " + number_text(x) + ")");
-      if (std::find(v.begin(), v.end(), x) != v.end()) fail(f, "repeats " + number_text(x));
-      v.push_back(x);
-    }
-    return v;
-  }
-
-  /// A non-empty array of integers >= 1, without repeats.
-  std::vector<std::int64_t> count_list(const toml::node& n, const std::string& field) const {
-    std::vector<std::int64_t> v;
-    const toml::array& a = array(n, field);
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      const std::string f = field + "[" + std::to_string(i) + "]";
-      const std::int64_t x = integer(*a.get(i), f, 1);
-      if (std::find(v.begin(), v.end(), x) != v.end()) fail(f, "repeats " + std::to_string(x));
-      v.push_back(x);
-    }
-    return v;
-  }
-
-  const std::string& file() const { return file_; }
-
  private:
-  std::string file_;
   const toml::table& doc_;
   const toml::table* quick_;
 };
@@ -215,11 +105,11 @@ FixedSweep read_fixed_sweep(const StudyReader& r, const toml::node* h, const std
     r.fail(steps_field, "give the fixed steps as h or as steps (numbers of steps per horizon), not both");
   }
   if (h != nullptr) {
-    s.h = r.positive_list(*h, h_field);
+    s.h = r.positive_sweep(*h, h_field);
     s.field = h_field;
   }
   if (steps != nullptr) {
-    s.steps = r.count_list(*steps, steps_field);
+    s.steps = r.count_sweep(*steps, steps_field);
     s.field = steps_field;
   }
   return s;
@@ -252,9 +142,9 @@ MethodSpec read_method(const StudyReader& r, const toml::node& n, const std::str
   if (n.is_string()) return make_study_method(r, r.string(n, field), field, std::nullopt, field);
   const toml::table* t = n.as_table();
   if (t == nullptr) {
-    r.fail(field, std::string("must be a method name or a table {method, model} (got ") + type_of(n) + ")");
+    r.fail(field, std::string("must be a method name or a table {method, model} (got ") + r.describe(n) + ")");
   }
-  r.check_keys(*t, field + ".", kMethodKeys);
+  r.check_keys(*t, field, kMethodKeys);
   const toml::node* m = t->get("method");
   if (m == nullptr) r.fail(field + ".method", "is required (a method name; see 'lgvi-testbed simulate --help')");
   std::optional<std::string> model;
@@ -281,8 +171,8 @@ Reference read_reference(const StudyReader& r) {
     return ref;
   }
   const toml::table* t = node->as_table();
-  if (t == nullptr) r.fail(field, std::string("must be \"exact\", \"none\" or a table (got ") + type_of(*node) + ")");
-  r.check_keys(*t, field + ".", kReferenceKeys);
+  if (t == nullptr) r.fail(field, std::string("must be \"exact\", \"none\" or a table (got ") + r.describe(*node) + ")");
+  r.check_keys(*t, field, kReferenceKeys);
   ref.kind = Reference::Kind::Run;
   if (const toml::node* k = t->get("kind")) ref.kind = kind_of(r.string(*k, field + ".kind"), field + ".kind", true);
   const bool runs = ref.kind == Reference::Kind::Run || ref.kind == Reference::Kind::ExactOrRun;
@@ -308,14 +198,14 @@ Reference read_reference(const StudyReader& r) {
     if (h != nullptr && steps != nullptr) r.fail(field + ".steps", "give h or steps, not both");
     if (h == nullptr && steps == nullptr) r.fail(field + ".h", "is required for the fixed-step " + spec.method + " (or steps)");
     if (h != nullptr) ref.h = r.positive(*h, field + ".h");
-    if (steps != nullptr) ref.steps = r.integer(*steps, field + ".steps", 1);
+    if (steps != nullptr) ref.steps = r.integer_at_least(*steps, field + ".steps", 1);
   } else {
     if (h != nullptr || steps != nullptr) {
       r.fail(field + (h != nullptr ? ".h" : ".steps"), "applies to a fixed-step method; " + spec.method + " takes rtol");
     }
     if (rtol == nullptr) r.fail(field + ".rtol", "is required for the adaptive " + spec.method);
     const double x = r.positive(*rtol, field + ".rtol");
-    if (x > kMaxRtol) r.fail(field + ".rtol", "must be at most 0.1 (got " + number_text(x) + ")");
+    if (x > kMaxRtol) r.fail(field + ".rtol", "must be at most 0.1 (got " + format_number(x) + ")");
     ref.options.rtol = x;
   }
   return ref;
@@ -344,14 +234,14 @@ SceneEntry read_scene(const StudyReader& r, const toml::node& n, const std::stri
   if (n.is_string()) {
     arg = r.string(n, field);
   } else if (t != nullptr) {
-    r.check_keys(*t, field + ".", kSceneKeys);
+    r.check_keys(*t, field, kSceneKeys);
     const toml::node* s = t->get("scene");
     if (s == nullptr) r.fail(field + ".scene", "is required (a scene name or the path of a scene file)");
     arg_field = field + ".scene";
     arg = r.string(*s, arg_field);
   } else {
     r.fail(field, std::string("must be a scene name, a path or a table {scene, horizons, h, steps, tolerances} (got ") +
-                      type_of(n) + ")");
+                      r.describe(n) + ")");
   }
   if (arg.empty()) r.fail(arg_field, "is empty (a scene name or the path of a scene file)");
   e.arg = scene_argument(arg, study_file);
@@ -370,12 +260,12 @@ SceneEntry read_scene(const StudyReader& r, const toml::node& n, const std::stri
   if (t != nullptr) {
     if (const toml::node* h = t->get("horizons")) {
       e.horizons_field = field + ".horizons";
-      e.horizons = r.positive_list(*h, e.horizons_field);
+      e.horizons = r.positive_sweep(*h, e.horizons_field);
     }
     e.fixed = read_fixed_sweep(r, t->get("h"), field + ".h", t->get("steps"), field + ".steps");
     if (const toml::node* tol = t->get("tolerances")) {
       e.tolerances_field = field + ".tolerances";
-      e.tolerances = r.positive_list(*tol, e.tolerances_field, kMaxRtol);
+      e.tolerances = r.positive_sweep(*tol, e.tolerances_field, kMaxRtol);
     }
   }
   return e;
@@ -487,22 +377,14 @@ Suite load_study(const fs::path& file, const SuiteParams& params) {
 
 Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteParams& params) {
   const std::string file_name = file.string();
-  check_toml_text(toml_text, file_name, "study");
-  toml::table doc;
-  try {
-    doc = toml::parse(toml_text, std::string_view(file_name));
-  } catch (const toml::parse_error& e) {
-    const auto& begin = e.source().begin;
-    throw SceneError(file_name, "line " + std::to_string(begin.line) + ", column " + std::to_string(begin.column),
-                     std::string(e.description()));
-  }
+  const toml::table doc = TomlReader(file_name, TypeDescription::Kind).parse(toml_text, "study");
   const StudyReader top(file_name, doc, nullptr);
   top.check_keys(doc, "", kTopKeys);
   const toml::table* quick = nullptr;
   if (const toml::node* q = doc.get("quick")) {
     quick = q->as_table();
-    if (quick == nullptr) top.fail("quick", std::string("must be a table (got ") + type_of(*q) + ")");
-    top.check_keys(*quick, "quick.", kQuickKeys);
+    if (quick == nullptr) top.fail("quick", std::string("must be a table (got ") + top.describe(*q) + ")");
+    top.check_keys(*quick, "quick", kQuickKeys);
   }
   const StudyReader r(file_name, doc, params.quick ? quick : nullptr);
 
@@ -520,7 +402,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
   {
     const auto [node, field] = r.get("methods");
     if (node == nullptr) r.fail("methods", "is required (a list of method names, e.g. [\"lgvi\", \"cvode-bdf\"])");
-    const toml::array& a = r.array(*node, field);
+    const toml::array& a = r.sweep(*node, field);
     std::set<std::string> seen;
     for (std::size_t i = 0; i < a.size(); ++i) {
       const std::string f = field + "[" + std::to_string(i) + "]";
@@ -540,7 +422,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
         if (m != "final-error" || reference.kind != Reference::Kind::None) metrics.emplace_back(m);
       }
     } else {
-      const toml::array& a = r.array(*node, field);
+      const toml::array& a = r.sweep(*node, field);
       for (std::size_t i = 0; i < a.size(); ++i) {
         const std::string f = field + "[" + std::to_string(i) + "]";
         const std::string m = r.string(*a.get(i), f);
@@ -559,7 +441,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
   // Sweeps and sampling shared by the scenes.
   const auto get_list = [&](std::string_view key, std::optional<double> max) {
     const auto [node, field] = r.get(key);
-    return std::make_pair(node == nullptr ? std::vector<double>{} : r.positive_list(*node, field, max), field);
+    return std::make_pair(node == nullptr ? std::vector<double>{} : r.positive_sweep(*node, field, max), field);
   };
   const auto [horizons, horizons_field] = get_list("horizons", std::nullopt);
   const auto [tolerances, tolerances_field] = get_list("tolerances", kMaxRtol);
@@ -568,7 +450,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
   const FixedSweep fixed = read_fixed_sweep(r, h_value.node, h_value.field, steps_value.node, steps_value.field);
   const auto integer_key = [&](std::string_view key, std::int64_t fallback, std::int64_t min) {
     const auto [node, field] = r.get(key);
-    return node == nullptr ? fallback : r.integer(*node, field, min);
+    return node == nullptr ? fallback : r.integer_at_least(*node, field, min);
   };
   const std::int64_t samples = integer_key("samples", 100, 1);
   const std::int64_t adaptive_samples = integer_key("adaptive_samples", samples, 1);
@@ -579,7 +461,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
   {
     const auto [node, field] = r.get("scenes");
     if (node == nullptr) r.fail("scenes", "is required (a list of scene names or paths, e.g. [\"free-body\"])");
-    const toml::array& a = r.array(*node, field);
+    const toml::array& a = r.sweep(*node, field);
     for (std::size_t i = 0; i < a.size(); ++i) {
       scenes.push_back(read_scene(r, *a.get(i), field + "[" + std::to_string(i) + "]", file, params.scenes_dir));
     }
@@ -639,7 +521,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
         try {
           return make_horizon(h, T, 1, e.scene->last_step);
         } catch (const InvalidInput& err) {
-          r.fail(field, "horizon T = " + number_text(T) + " of scene '" + e.name + "' with h = " + number_text(h) +
+          r.fail(field, "horizon T = " + format_number(T) + " of scene '" + e.name + "' with h = " + format_number(h) +
                             ": " + reason_of(err) +
                             (field == scene_horizons_field ? "" : " (horizons from " + (scene_horizons_field.empty() ? std::string("the scene file") : scene_horizons_field) + ")"));
         }

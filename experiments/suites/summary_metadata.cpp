@@ -68,7 +68,7 @@ Fields summary_metadata(const Suite& suite, const std::vector<std::string>& colu
       {"version", std::string(version())},
       {"git_describe", std::string(git_describe())},
       {"units", "per row's system: SI for free-body, pendulum, cart-pendulum, connected-bodies (" +
-                    units_of("cart-pendulum") + "); for dumbbell the " + units_of("dumbbell")},
+                    system_units("cart-pendulum") + "); for dumbbell the " + system_units("dumbbell")},
       {"errors", std::string("a column ending in _relative is normalized by the initial value's magnitude, one "
                              "ending in _absolute is in the quantity's unit; the others are described below")},
   };

@@ -69,6 +69,9 @@ struct SystemLabels {
 ///   run_baseline(m, chart)         the continuous mechanics and initial state, handed to
 ///                                  chart(mech, R, Omega, x, v) (baselines/mechanics.hpp)
 ///   from_chart(decoded, s)         a baseline's decoded state into a State
+/// and, where a suite needs them (the suite asks whether the binding has them):
+///   as_pendulum(m)                 the system as a Pendulum3D (sensitivity suite)
+///   set_inertia(m, J)              replaces the body's inertia (extremes suite)
 /// A binding is a constrained partial specialization, `template <std::same_as<XModel> BoundModel>
 /// struct SystemBinding<BoundModel>`, not an explicit one: its members are then templates,
 /// instantiated only in the files that use them (every file that includes the list of systems

@@ -8,6 +8,7 @@
 #include "experiments/systems/attitude.hpp"
 #include "lgvi/gravity_gradient_lgvi.hpp"
 #include "lgvi/systems/gravity_gradient.hpp"
+#include "lgvi/systems/pendulum.hpp"
 
 namespace lgvi::experiments {
 
@@ -84,6 +85,12 @@ struct SystemBinding<BoundModel> : AttitudeBinding<FreeBodyModel> {
     return chart(mech, std::array<Mat3, 1>{m.initial.R}, std::array<Vec3, 1>{m.initial.Omega},
                  baselines::Vector<0>(), baselines::Vector<0>());
   }
+  /// The body as a 3D pendulum with rho = 0 and g = 0, whose moment m g rho x a and its
+  /// derivatives vanish identically: the pendulum's LGVI and linearization (lgvi/ocp) are then
+  /// the free body's (the sensitivity suite). Controls and orbit are left out.
+  static Pendulum3D as_pendulum(const FreeBodyModel& m) { return Pendulum3D(1.0, m.system.inertia.J, Vec3::Zero(), 0.0); }
+  /// Replaces the inertia (the extremes suite's near-symmetric and near-flat bodies).
+  static void set_inertia(FreeBodyModel& m, const Mat3& J) { m.system = FreeRigidBody(J); }
   static MomentumMap momentum_map() {
     return {"spatial angular momentum R J Omega", {"spatial_momentum1", "spatial_momentum2", "spatial_momentum3"}};
   }

@@ -16,10 +16,15 @@
 //                                  solve_continuous(m, problem, options) and
 //                                  continuous_costate(lambda_0), the discrete multiplier on the
 //                                  continuous costate's coordinates
-//   direct only: state_columns(c), state_row(row, lgvi, s), energy(lgvi, s) of the trajectory
-//                CSV, violation_parts(r, fields), violation_norm, knot_layout (summary text)
+//   violation_norm, violation_parts   the summary's terminal violation: what its norm is, and
+//                                  its parts {name, offset, size} in the residual
+//   state_columns(c), state_row(row, lgvi, s)   the trajectory CSV's state columns
+//   indirect only: control_columns(c), multiplier_columns(c) of the trajectory CSV;
+//                cost_parts(form, h, steps, u, fields), the cost split by the control's parts
+//   direct only: energy(lgvi, s) of the trajectory CSV, knot_layout (summary text)
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -53,15 +58,21 @@ inline void vector_names(std::vector<std::string>& c, const std::string& name) {
 }
 }  // namespace ocp_binding_detail
 
-/// The 3D pendulum (section 3.2): indirect shooting with the symmetry decomposition.
-template <>
-struct OcpBinding<PendulumModel> {
+/// A part of the terminal residual r: the summary's `name` is |r.segment(offset, size)|.
+struct ResidualPart {
+  const char* name;
+  int offset;
+  int size;
+};
+
+/// The indirect method's part that the single-attitude systems share (free body, pendulum): the
+/// transfer on SO(3) and the columns of its outputs. M is the scene model.
+template <class M>
+struct AttitudeOcpBinding {
   static constexpr bool indirect = true;
   static constexpr bool direct = false;
   static constexpr int nu = 3;
-  using IndirectModel = ocp::PendulumModel;
-  static const Pendulum3D& system(const PendulumModel& m) { return m.system; }
-  static ocp::TransferProblem transfer(const PendulumModel& m, const AttitudeInitial& target, double t_final) {
+  static ocp::TransferProblem transfer(const M& m, const AttitudeInitial& target, double t_final) {
     ocp::TransferProblem p;
     p.R0 = m.initial.R;
     p.Omega0 = m.initial.Omega;
@@ -71,6 +82,34 @@ struct OcpBinding<PendulumModel> {
     return p;
   }
   static constexpr const char* violation_label = "|r| = |[log(R_f^T R(T)); Ω(T) - Ω_f]| [rad, rad/s]";
+  static constexpr const char* violation_norm = "2-norm of [log(R_f^T R_N)^vee; Omega_N - Omega_f]";
+  static constexpr std::array<ResidualPart, 2> violation_parts = {
+      {{"violation_rotation", 0, 3}, {"violation_angular_velocity", 3, 3}}};
+  static void state_columns(std::vector<std::string>& c) {
+    ocp_binding_detail::matrix_names(c, "R");
+    ocp_binding_detail::vector_names(c, "Omega");
+  }
+  static void control_columns(std::vector<std::string>& c) { ocp_binding_detail::vector_names(c, "u"); }
+  static void multiplier_columns(std::vector<std::string>& c) {
+    ocp_binding_detail::vector_names(c, "lambda_R");
+    ocp_binding_detail::vector_names(c, "lambda_Pi");
+  }
+  template <class Lgvi, class State>
+  static void state_row(std::vector<double>& row, const Lgvi& lgvi, const State& s) {
+    ocp_binding_detail::append_matrix(row, s.R);
+    const Vec3 Omega = lgvi.omega(s);
+    for (int i = 0; i < 3; ++i) row.push_back(Omega(i));
+  }
+  /// One control (the moment): no split of the cost.
+  template <class Controls>
+  static void cost_parts(LgviForm, double, std::size_t, const Controls&, Fields&) {}
+};
+
+/// The 3D pendulum (section 3.2): indirect shooting with the symmetry decomposition.
+template <>
+struct OcpBinding<PendulumModel> : AttitudeOcpBinding<PendulumModel> {
+  using IndirectModel = ocp::PendulumModel;
+  static const Pendulum3D& system(const PendulumModel& m) { return m.system; }
   static constexpr bool continuous = true;
   static baselines::ContinuousShootingResult solve_continuous(const PendulumModel& m, const ocp::TransferProblem& p,
                                                               const baselines::ContinuousShootingOptions& o) {
@@ -84,10 +123,7 @@ struct OcpBinding<PendulumModel> {
 /// The free rigid body with a body-frame control moment (a spacecraft slew): indirect shooting
 /// (lgvi/ocp/models.hpp FreeBodyModel).
 template <>
-struct OcpBinding<FreeBodyModel> {
-  static constexpr bool indirect = true;
-  static constexpr bool direct = false;
-  static constexpr int nu = 3;
+struct OcpBinding<FreeBodyModel> : AttitudeOcpBinding<FreeBodyModel> {
   using IndirectModel = ocp::FreeBodyModel;
   static const FreeRigidBody& system(const FreeBodyModel& m) { return m.system; }
   /// The optimal control model has no gravity-gradient moment: a scene on an orbit is refused.
@@ -97,16 +133,6 @@ struct OcpBinding<FreeBodyModel> {
                                       "(remove orbit_rate, or [ocp])");
     }
   }
-  static ocp::TransferProblem transfer(const FreeBodyModel& m, const AttitudeInitial& target, double t_final) {
-    ocp::TransferProblem p;
-    p.R0 = m.initial.R;
-    p.Omega0 = m.initial.Omega;
-    p.Rf = target.R;
-    p.Omegaf = target.Omega;
-    p.t_final = t_final;
-    return p;
-  }
-  static constexpr const char* violation_label = "|r| = |[log(R_f^T R(T)); Ω(T) - Ω_f]| [rad, rad/s]";
   static constexpr bool continuous = false;
 };
 
@@ -132,6 +158,46 @@ struct OcpBinding<DumbbellModel> {
     return p;
   }
   static constexpr const char* violation_label = "|r| [normalized: rad, length, rad/time, length/time]";
+  static constexpr const char* violation_norm =
+      "2-norm of [log(R_f^T R_N)^vee; x_N - x_f; Omega_N - Omega_f; v_N - v_f]";
+  static constexpr std::array<ResidualPart, 4> violation_parts = {{{"violation_rotation", 0, 3},
+                                                                   {"violation_position", 3, 3},
+                                                                   {"violation_angular_velocity", 6, 3},
+                                                                   {"violation_velocity", 9, 3}}};
+  static void state_columns(std::vector<std::string>& c) {
+    ocp_binding_detail::matrix_names(c, "R");
+    ocp_binding_detail::vector_names(c, "x");
+    ocp_binding_detail::vector_names(c, "Omega");
+    ocp_binding_detail::vector_names(c, "v");
+  }
+  static void control_columns(std::vector<std::string>& c) {
+    ocp_binding_detail::vector_names(c, "um");
+    ocp_binding_detail::vector_names(c, "uf");
+  }
+  static void multiplier_columns(std::vector<std::string>& c) {
+    for (const char* block : {"lambda_R", "lambda_x", "lambda_Pi", "lambda_p"}) ocp_binding_detail::vector_names(c, block);
+  }
+  static void state_row(std::vector<double>& row, const DumbbellLgvi& lgvi, const RigidBodyState& s) {
+    ocp_binding_detail::append_matrix(row, s.R);
+    for (int i = 0; i < 3; ++i) row.push_back(s.x(i));
+    const Vec3 Omega = lgvi.omega(s);
+    for (int i = 0; i < 3; ++i) row.push_back(Omega(i));
+    for (int i = 0; i < 3; ++i) row.push_back(s.v(i));
+  }
+  /// The cost split into the moment and the force controls, each sum_k c_k/2 |u_k part|^2 with
+  /// the form's impulse weights (valid for W = I only: the caller checks).
+  template <class Controls>
+  static void cost_parts(LgviForm form, double h, std::size_t steps, const Controls& u, Fields& f) {
+    double moment = 0.0, force = 0.0;
+    const auto [c0, c1] = impulse_weights(form, h);
+    for (std::size_t j = 0; j < u.size(); ++j) {
+      const double w = j == 0 ? c0 : j == steps ? c1 : c0 + c1;
+      moment += 0.5 * w * u[j].template head<3>().squaredNorm();
+      force += 0.5 * w * u[j].template tail<3>().squaredNorm();
+    }
+    f.push_back({"cost_moment", moment});
+    f.push_back({"cost_force", force});
+  }
   static constexpr bool continuous = true;
   static baselines::DumbbellContinuousShootingResult solve_continuous(const DumbbellModel& m,
                                                                       const ocp::TransferProblem& p,
@@ -188,12 +254,10 @@ struct OcpBinding<CartPendulumModel> {
     lgvi.velocities(s, Omega, q_dot);
     return lgvi.system().energy(s.R, Omega, q_dot);
   }
-  static void violation_parts(const Eigen::VectorXd& r, Fields& f) {
-    f.push_back({"violation_rotation", r.head(3).norm()});
-    f.push_back({"violation_position", r.segment(3, 2).norm()});
-    f.push_back({"violation_angular_velocity", r.segment(5, 3).norm()});
-    f.push_back({"violation_velocity", r.segment(8, 2).norm()});
-  }
+  static constexpr std::array<ResidualPart, 4> violation_parts = {{{"violation_rotation", 0, 3},
+                                                                   {"violation_position", 3, 2},
+                                                                   {"violation_angular_velocity", 5, 3},
+                                                                   {"violation_velocity", 8, 2}}};
 };
 
 /// Two bodies joined by a ball joint (section 4.2): the direct method, the internal moment u.
@@ -243,12 +307,10 @@ struct OcpBinding<ConnectedBodiesModel> {
     lgvi.velocities(s, Omega1, Omega2);
     return lgvi.system().energy(s.R1, s.R2, Omega1, Omega2);
   }
-  static void violation_parts(const Eigen::VectorXd& r, Fields& f) {
-    f.push_back({"violation_rotation1", r.head(3).norm()});
-    f.push_back({"violation_rotation2", r.segment(3, 3).norm()});
-    f.push_back({"violation_angular_velocity1", r.segment(6, 3).norm()});
-    f.push_back({"violation_angular_velocity2", r.segment(9, 3).norm()});
-  }
+  static constexpr std::array<ResidualPart, 4> violation_parts = {{{"violation_rotation1", 0, 3},
+                                                                   {"violation_rotation2", 3, 3},
+                                                                   {"violation_angular_velocity1", 6, 3},
+                                                                   {"violation_angular_velocity2", 9, 3}}};
 };
 
 }  // namespace lgvi::experiments

@@ -38,6 +38,8 @@ struct SystemBinding<BoundModel> : AttitudeBinding<PendulumModel> {
   static Vec3 feedback_control(const PendulumModel& m, const Mat3& R, const Vec3& Omega) {
     return m.feedback->moment(R, Omega).cross(R.row(2).transpose());
   }
+  /// The pendulum itself (the free body's binding has its own: the sensitivity suite runs both).
+  static const Pendulum3D& as_pendulum(const PendulumModel& m) { return m.system; }
   static MomentumMap momentum_map() { return {"vertical angular momentum e3^T R J Omega", {"vertical_momentum"}}; }
   static SystemLabels labels() {
     return {"time [s]", "|E - E_0| [J]", "|e_3^T R J Ω - (e_3^T R J Ω)_0| [kg m^2/s]", " s"};

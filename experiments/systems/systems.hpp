@@ -5,7 +5,6 @@
 // A new system: its binding file, its include below and its alternative in Model.
 #pragma once
 
-#include <optional>
 #include <string_view>
 #include <utility>
 #include <type_traits>
@@ -109,16 +108,33 @@ decltype(auto) visit_binding(Model& model, F&& f) {
                     model);
 }
 
-/// The figure labels of the system named `system` (a scene's "system"), if it is one.
-inline std::optional<SystemLabels> system_labels_of(std::string_view system) {
-  std::optional<SystemLabels> labels;
-  [&]<std::size_t... I>(std::index_sequence<I...>) {
-    ((system == std::variant_alternative_t<I, Model>::name
-          ? void(labels = SystemBinding<std::variant_alternative_t<I, Model>>::labels())
-          : void()),
-     ...);
+/// Calls f(SystemBinding<M>{}) for the system M named `system` (a scene's "system"); false when
+/// no system has that name.
+template <class F>
+bool visit_binding_named(std::string_view system, F&& f) {
+  return [&]<std::size_t... I>(std::index_sequence<I...>) {
+    return ((system == std::variant_alternative_t<I, Model>::name
+                 ? (f(SystemBinding<std::variant_alternative_t<I, Model>>{}), true)
+                 : false) ||
+            ...);
   }(std::make_index_sequence<std::variant_size_v<Model>>{});
+}
+
+/// The figure labels of the system named `system`; for a name no system has (a summary row
+/// without a run), the free body's SI labels.
+inline SystemLabels system_labels(std::string_view system) {
+  SystemLabels labels = SystemBinding<FreeBodyModel>::labels();
+  visit_binding_named(system, [&](auto binding) { labels = decltype(binding)::labels(); });
   return labels;
+}
+
+/// The units of the CSV columns and diagnostics of the system named `system`, one line: SI for
+/// the physical systems, the normalized units of the dumbbell (mass 1, orbit radius 1, mu = 1);
+/// for a name no system has, the free body's.
+inline std::string system_units(std::string_view system) {
+  std::string units = SystemBinding<FreeBodyModel>::units();
+  visit_binding_named(system, [&](auto binding) { units = decltype(binding)::units(); });
+  return units;
 }
 
 }  // namespace lgvi::experiments
