@@ -236,6 +236,8 @@ std::vector<MethodUnderTest> conservation_methods() {
            {"cvode-bdf-quaternion-rtol1e-8", {"cvode-bdf", "quaternion", 1e-8}, {}},
            {"gsl-rk8pd-quaternion-rtol1e-8", {"gsl-rk8pd", "quaternion", 1e-8}, {}},
            {"odeint-dopri5-matrix-rtol1e-8", {"odeint-dopri5", "matrix", 1e-8}, {}},
+           {"arkode-erk-quaternion-rtol1e-8", {"arkode-erk", "quaternion", 1e-8}, {}},
+           {"arkode-dirk-quaternion-rtol1e-8", {"arkode-dirk", "quaternion", 1e-8}, {}},
        }) {
     m.push_back(std::move(picked));
   }
@@ -325,6 +327,8 @@ std::vector<MethodUnderTest> exact_methods() {
       {"cvode-adams-quaternion-rtol1e-8", {"cvode-adams", "quaternion", 1e-8}, {}},
       {"gsl-rk8pd-quaternion-rtol1e-10", {"gsl-rk8pd", "quaternion", 1e-10}, {}},
       {"odeint-dopri5-matrix-rtol1e-8", {"odeint-dopri5", "matrix", 1e-8}, {}},
+      {"arkode-erk-quaternion-rtol1e-8", {"arkode-erk", "quaternion", 1e-8}, {}},
+      {"arkode-dirk-quaternion-rtol1e-8", {"arkode-dirk", "quaternion", 1e-8}, {}},
        }) {
     m.push_back(std::move(picked));
   }

@@ -21,9 +21,16 @@ struct LongRun {
 /// quick suites' CSVs stay small.
 constexpr std::size_t kRowsPerCsv = 500;
 
-/// Euler angles meet gimbal lock on a tumbling body: a probe, not a requirement.
+/// Probes, not requirements (any outcome is as expected): Euler angles, which meet gimbal lock on
+/// a tumbling body; a fixed-step implicit baseline, whose Newton iteration may stop converging at
+/// the scene's h over 10^5 steps (gsl-rk4imp's modified Newton, capped at 7 iterations by GSL, on
+/// the connected bodies at t = 119 s of the quick momentum suite); and a first-order method
+/// (Lie-Euler), whose energy grows geometrically, by (1 + h^2 |Omega|^2)^(1/2) a step. Every other
+/// method must complete.
 Expectation long_run_expectation(const MethodSpec& m) {
-  return m.model == std::optional<std::string>("euler") ? Expectation::Either : Expectation::Complete;
+  const bool probe = m.model == std::optional<std::string>("euler") ||
+                     (m.info->uses_jacobian && m.info->fixed_step()) || m.info->order == 1;
+  return probe ? Expectation::Either : Expectation::Complete;
 }
 
 void add_long_runs(Suite& s, const SuiteParams& params, const std::vector<LongRun>& runs) {

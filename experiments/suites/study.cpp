@@ -33,7 +33,7 @@ constexpr std::string_view kTopKeys[] = {"name",    "description",      "scenes"
 constexpr std::string_view kQuickKeys[] = {"scenes",  "methods",          "h",      "steps",   "tolerances", "horizons",
                                            "reference", "metrics",        "samples", "adaptive_samples", "probes"};
 constexpr std::string_view kSceneKeys[] = {"scene", "horizons", "h", "steps", "tolerances"};
-constexpr std::string_view kMethodKeys[] = {"method", "model"};
+constexpr std::string_view kMethodKeys[] = {"method", "model", "where"};
 constexpr std::string_view kReferenceKeys[] = {"kind", "method", "model", "h", "steps", "rtol"};
 /// The bound `simulate --rtol` states: above 0.1 a run is no solution.
 constexpr double kMaxRtol = 0.1;
@@ -137,19 +137,39 @@ MethodSpec make_study_method(const StudyReader& r, const std::string& name, cons
   return spec;
 }
 
-/// A method entry: "name" or {method = "name", model = "..."}.
-MethodSpec read_method(const StudyReader& r, const toml::node& n, const std::string& field) {
-  if (n.is_string()) return make_study_method(r, r.string(n, field), field, std::nullopt, field);
+/// A method entry: "name", {method = "name", model = "..."}, or {where = "trait query"}: every
+/// registered method whose traits match (methods_matching, e.g. "on_group and not variational",
+/// the Lie group methods), each with its default model.
+std::vector<MethodSpec> read_methods(const StudyReader& r, const toml::node& n, const std::string& field) {
+  if (n.is_string()) return {make_study_method(r, r.string(n, field), field, std::nullopt, field)};
   const toml::table* t = n.as_table();
   if (t == nullptr) {
     r.fail(field, std::string("must be a method name or a table {method, model} (got ") + r.describe(n) + ")");
   }
   r.check_keys(*t, field, kMethodKeys);
+  if (const toml::node* w = t->get("where")) {
+    for (const char* key : {"method", "model"}) {
+      if (t->get(key) != nullptr) r.fail(field + "." + key, "does not go with 'where' (a trait query names its methods)");
+    }
+    const std::string query = r.string(*w, field + ".where");
+    std::vector<const MethodInfo*> matched;
+    try {
+      matched = methods_matching(query);
+    } catch (const InvalidInput& e) {
+      r.fail(field + ".where", reason_of(e));
+    }
+    if (matched.empty()) r.fail(field + ".where", "'" + query + "' matches no method");
+    std::vector<MethodSpec> specs;
+    for (const MethodInfo* info : matched) {
+      specs.push_back(make_study_method(r, info->name, field + ".where", std::nullopt, field + ".where"));
+    }
+    return specs;
+  }
   const toml::node* m = t->get("method");
   if (m == nullptr) r.fail(field + ".method", "is required (a method name; see 'lgvi-testbed simulate --help')");
   std::optional<std::string> model;
   if (const toml::node* mo = t->get("model")) model = r.string(*mo, field + ".model");
-  return make_study_method(r, r.string(*m, field + ".method"), field + ".method", model, field + ".model");
+  return {make_study_method(r, r.string(*m, field + ".method"), field + ".method", model, field + ".model")};
 }
 
 Reference read_reference(const StudyReader& r) {
@@ -406,9 +426,10 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
     std::set<std::string> seen;
     for (std::size_t i = 0; i < a.size(); ++i) {
       const std::string f = field + "[" + std::to_string(i) + "]";
-      MethodSpec m = read_method(r, *a.get(i), f);
-      if (!seen.insert(m.id()).second) r.fail(f, "lists " + m.id() + " twice");
-      (m.fixed_step() ? fixed_methods : adaptive_methods).push_back(std::move(m));
+      for (MethodSpec& m : read_methods(r, *a.get(i), f)) {
+        if (!seen.insert(m.id()).second) r.fail(f, "lists " + m.id() + " twice");
+        (m.fixed_step() ? fixed_methods : adaptive_methods).push_back(std::move(m));
+      }
     }
   }
 
@@ -587,6 +608,10 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
         s.cases.push_back(std::move(c));
       };
       for (const MethodSpec& m : fixed_methods) {
+        // A first-order method (Lie-Euler: explicit, its energy grows by (1 + h^2 |Omega|^2)^(1/2)
+        // a step on these undamped systems) may overflow on a long horizon at any step: a probe
+        // at every step.
+        const bool first_order = m.info->order == 1;
         for (const Step& st : steps) {
           SimulateSpec spec;
           spec.scene = e.arg;
@@ -596,7 +621,8 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
               static_cast<std::int64_t>(std::max<std::size_t>(1, st.steps / static_cast<std::size_t>(samples)));
           spec.timed = timed;
           add(suites::simulate_case(id_prefix + m.id() + "-" + st.tag, group, spec, m,
-                                    is_probe(st.h) ? Expectation::Either : Expectation::Complete, ref));
+                                    is_probe(st.h) || first_order ? Expectation::Either : Expectation::Complete,
+                                    ref));
         }
       }
       for (MethodSpec m : adaptive_methods) {

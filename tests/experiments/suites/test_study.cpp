@@ -78,6 +78,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadStudy{"model_on_the_lgvi", tiny_with("\"lgvi\",", "{ method = \"lgvi\", model = \"matrix\" },"),
                  {"methods[0].model", "no coordinate model"}},
         BadStudy{"method_listed_twice", tiny_with("\"lgvi-yoshida4\"", "\"lgvi\""), {"methods[1]", "twice"}},
+        BadStudy{"unknown_trait", tiny_with("\"lgvi-yoshida4\"", "{ where = \"on_group and not varitional\" }"),
+                 {"methods[1].where", "unknown trait 'varitional'", "stays_on_group"}},
+        BadStudy{"trait_query_matches_nothing", tiny_with("\"lgvi-yoshida4\"", "{ where = \"adaptive and fixed_step\" }"),
+                 {"methods[1].where", "matches no method"}},
+        BadStudy{"trait_query_with_a_method", tiny_with("\"lgvi-yoshida4\"", "{ where = \"on_group\", method = \"lgvi\" }"),
+                 {"methods[1].method", "does not go with 'where'"}},
+        BadStudy{"trait_query_repeats_a_method", tiny_with("\"lgvi-yoshida4\"", "{ where = \"variational\" }"),
+                 {"methods[1]", "lists lgvi twice"}},
         BadStudy{"no_methods", tiny_with("methods = [\"lgvi\", \"lgvi-yoshida4\", { method = \"cvode-bdf\", model = "
                                          "\"quaternion\" }]",
                                          "methods = []"),
@@ -300,6 +308,31 @@ TEST(StudyShipped, EveryShippedStudyLoadsInBothForms) {
       const experiments::Suite s =
           experiments::load_study(entry.path(), {quick, experiments::default_scenes_dir()});
       EXPECT_FALSE(s.cases.empty()) << entry.path();
+    }
+  }
+}
+
+// The shipped work-precision and long-horizon studies select the Lie group methods by trait
+// ({ where = "on_group and not variational" }): every registered method with those traits has
+// cases in both forms of both studies, fixed-step ones by h or steps and adaptive ones by rtol.
+TEST(StudyShipped, TheComparisonStudiesTakeEveryOtherMethodOnTheGroupByTrait) {
+  const auto picked = experiments::methods_matching("on_group and not variational");
+  ASSERT_FALSE(picked.empty());
+  for (const char* name : {"work-precision", "long-horizon"}) {
+    for (const bool quick : {false, true}) {
+      const experiments::Suite s = experiments::load_study(
+          experiments::default_studies_dir() / (std::string(name) + ".toml"), {quick, experiments::default_scenes_dir()});
+      for (const experiments::MethodInfo* info : picked) {
+        // Case ids end in -h<h> or -n<steps> (fixed step), -rtol<rtol> (adaptive).
+        const std::vector<std::string> tags =
+            info->fixed_step() ? std::vector<std::string>{"-h", "-n"} : std::vector<std::string>{"-rtol"};
+        const bool found = std::any_of(s.cases.begin(), s.cases.end(), [&](const experiments::SuiteCase& c) {
+          return std::any_of(tags.begin(), tags.end(), [&](const std::string& tag) {
+            return c.id.find("-" + info->name + tag) != std::string::npos;
+          });
+        });
+        EXPECT_TRUE(found) << name << (quick ? " --quick" : "") << ": no case of " << info->name;
+      }
     }
   }
 }
