@@ -263,6 +263,10 @@ Stats run_arkode(Run& run, std::vector<double>& y, ArkodeModule module) {
          setup(ARKStepSetInterpolantDegree(ark.mem, kInterpolantDegree), "ARKStepSetInterpolantDegree") &&
          setup(ARKStepSetStopTime(ark.mem, t_end), "ARKStepSetStopTime");
   }
+  if (ok && run.settings.fixed_step_probe) {  // order measurements: no error control
+    ok = ark.erk() ? setup(ERKStepSetFixedStep(ark.mem, *run.settings.fixed_step_probe), "ERKStepSetFixedStep")
+                   : setup(ARKStepSetFixedStep(ark.mem, *run.settings.fixed_step_probe), "ARKStepSetFixedStep");
+  }
   if (ok && run.ode.has_singular_set()) {
     int direction = -1;  // g decreases through 0 when |cos theta| falls to the threshold
     ok = ark.erk() ? setup(ERKStepRootInit(ark.mem, 1, ark_root), "ERKStepRootInit") &&

@@ -33,10 +33,10 @@ const std::vector<SolverInfo>& solver_list() {
       {"gsl-msbdf", StepControl::Adaptive, false, "GSL odeiv2 variable-order BDF (orders 1-5), Newton", 0, 0, true,
        OutputInterpolation::Hermite, detail::run_gsl_msbdf},
       {"arkode-erk", StepControl::Adaptive, false, "SUNDIALS ARKODE ERKStep, Verner 6(5) 8-stage pair", 0, 0, false,
-       OutputInterpolation::Arkode, detail::run_arkode_erk},
+       OutputInterpolation::Arkode, detail::run_arkode_erk, false, true},
       {"arkode-dirk", StepControl::Adaptive, false,
        "SUNDIALS ARKODE ARKStep ESDIRK, Kennedy-Carpenter ARK5(4)8L[2]SA implicit part, Newton + dense LU", 0, 0, true,
-       OutputInterpolation::Arkode, detail::run_arkode_dirk},
+       OutputInterpolation::Arkode, detail::run_arkode_dirk, false, true},
   };
   return list;
 }
@@ -71,6 +71,14 @@ SolverSettings resolve_settings(const SolverInfo& info, const SolverSettings& se
     if (!s.atol) s.atol = *s.rtol;
     if (!(std::isfinite(*s.rtol) && *s.rtol > 0.0)) throw InvalidInput("rtol", "must be finite and > 0");
     if (!(std::isfinite(*s.atol) && *s.atol > 0.0)) throw InvalidInput("atol", "must be finite and > 0");
+  }
+  if (s.fixed_step_probe) {
+    if (!info.offers_fixed_step_probe) {
+      throw InvalidInput("fixed_step_probe", info.name + " has no fixed-step mode (ARKODE's methods only)");
+    }
+    if (!(std::isfinite(*s.fixed_step_probe) && *s.fixed_step_probe > 0.0)) {
+      throw InvalidInput("fixed_step_probe", "must be finite and > 0");
+    }
   }
   if (ode.renormalizes() && !info.post_step_hook) {
     // Why each has none is in baselines/solver.hpp (a multistep history that would restart at order

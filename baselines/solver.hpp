@@ -114,6 +114,9 @@ struct SolverInfo {
   SolverAdapter adapter = nullptr;  ///< the solver itself: integrate() calls it, no name is compared
   /// Offers its library's difference-quotient Jacobian (JacobianSource::DifferenceQuotient: CVODE).
   bool difference_quotient_jacobian = false;
+  /// An adaptive method that can also step at a fixed h without error control
+  /// (SolverSettings::fixed_step_probe: ARKODE), so that its tables' orders can be measured.
+  bool offers_fixed_step_probe = false;
 };
 
 /// Every baseline method, in the order of the list above.
@@ -150,6 +153,11 @@ struct SolverSettings {
   /// ~6 RHS). Without it, the steps these methods take at loose tolerances are too long for the
   /// quintic: see solver_detail.hpp. The run (steps, step-end states) is the same either way.
   bool hermite_midpoint = true;
+  /// Adaptive methods that offer it (SolverInfo::offers_fixed_step_probe: ARKODE) step at this
+  /// fixed h with the error control off (ERKStepSetFixedStep / ARKStepSetFixedStep), to measure
+  /// the order of their tables; rtol and atol still set the implicit solve's tolerance. Each
+  /// output interval must be a whole number of steps, as for the fixed-step methods.
+  std::optional<double> fixed_step_probe;
   /// Fixed-step methods: the last output interval may be one step shorter than h (a horizon that
   /// is not a whole number of steps); every other interval stays a whole number of steps of h.
   bool shorter_last_step = false;

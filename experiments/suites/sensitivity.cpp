@@ -284,6 +284,12 @@ class Continuous final : public ContinuousSystem {
   Ode ode_;
 };
 
+// Instantiated here for the systems whose bindings have as_pendulum: clang 14 does not emit the
+// virtual members of a class template first used inside a generic lambda's
+// `if constexpr (requires ...)` branch (load_problem), and the ASan build's link failed on them.
+template class Continuous<FreeRigidBody>;
+template class Continuous<Pendulum3D>;
+
 /// The attitude system of a case: the scene's parameters and initial state. The LGVI side is
 /// written for the pendulum model of lgvi/ocp/models.hpp: the binding gives the system as a
 /// pendulum (SystemBinding::as_pendulum; the free body's has rho = 0 and g = 0, so its LGVI and
