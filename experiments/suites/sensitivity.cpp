@@ -284,11 +284,16 @@ class Continuous final : public ContinuousSystem {
   Ode ode_;
 };
 
-// Instantiated here for the systems whose bindings have as_pendulum: clang 14 does not emit the
-// virtual members of a class template first used inside a generic lambda's
-// `if constexpr (requires ...)` branch (load_problem), and the ASan build's link failed on them.
-template class Continuous<FreeRigidBody>;
-template class Continuous<Pendulum3D>;
+// The continuous systems of the two systems whose bindings have as_pendulum, made outside
+// load_problem's generic lambda: clang 14 does not emit the templates first instantiated inside
+// its `if constexpr (requires ...)` branch (Continuous's virtual members, make_shared's control
+// block), and the ASan build's link failed on them.
+std::shared_ptr<const ContinuousSystem> make_continuous(const FreeRigidBody& system) {
+  return std::make_shared<const Continuous<FreeRigidBody>>(system);
+}
+std::shared_ptr<const ContinuousSystem> make_continuous(const Pendulum3D& system) {
+  return std::make_shared<const Continuous<Pendulum3D>>(system);
+}
 
 /// The attitude system of a case: the scene's parameters and initial state. The LGVI side is
 /// written for the pendulum model of lgvi/ocp/models.hpp: the binding gives the system as a
@@ -306,9 +311,8 @@ AttitudeProblem load_problem(const std::string& scene_name, const fs::path& scen
   const Scene scene = load_scene(resolve_scene(scene_name, scenes_dir));
   return visit_binding(scene.model, [&](auto binding, const auto& m) -> AttitudeProblem {
     if constexpr (requires { decltype(binding)::as_pendulum(m); }) {
-      using System = std::decay_t<decltype(m.system)>;
-      return {scene.system(), decltype(binding)::as_pendulum(m), std::make_shared<const Continuous<System>>(m.system),
-              m.initial.R, m.initial.Omega};
+      return {scene.system(), decltype(binding)::as_pendulum(m), make_continuous(m.system), m.initial.R,
+              m.initial.Omega};
     } else {
       throw InvalidInput("scene", scene_name + ": the sensitivity suite needs a pendulum or free-body scene (got " +
                                       scene.system() + ")");
