@@ -1,7 +1,19 @@
 // SUNDIALS CVODE (v6 API): Adams or BDF, Newton iteration with a dense direct linear solver and
 // the model's Jacobian (or CVODE's difference quotient), scalar tolerances, the Euler model's
 // singular set as a root function, CVODE's projection interface for the renormalized quaternion
-// (BDF only). Every return flag is checked; CVODE's error handler is redirected into the status.
+// and for cvode-bdf-projected's manifold projection (BDF only). Every return flag is checked;
+// CVODE's error handler is redirected into the status.
+//
+// cvode-bdf-projected: the same BDF settings as cvode-bdf, and CVodeSetProjFn with cv_project_
+// manifold: after every step (CVODE's default projection frequency 1) the model projects the
+// state onto its constraints and invariants (Ode::project; baselines/projection.hpp), the values
+// to keep taken from the initial state once (Ode::projection_target). CVODE adds the correction
+// to its Nordsieck history and uses the projected error estimate in its error test (CVODE user
+// guide, "Projection"; projection is BDF-only in CVODE). A projection that does not converge
+// returns 1, a recoverable failure: CVODE retries the step with a smaller h (at most 10 times,
+// its default, then CV_PROJ_FAIL). The output times' states, read off CVODE's interpolant between
+// two projected steps, are off the manifold by the interpolation error: they are projected too
+// (without an error vector), so that every sample keeps the invariants to round-off.
 //
 // Output: CVODE steps one step at a time (CV_ONE_STEP) towards the end of the horizon (its stop
 // time; nothing else limits a step), and the output times each step passed are read off its own
@@ -24,6 +36,7 @@ namespace {
 struct CvodeUser {
   Run* run;
   std::vector<double> J;  ///< row-major Jacobian buffer
+  ProjectionTarget target = {};  ///< cvode-bdf-projected: the values the projection keeps
 };
 
 int cv_rhs(realtype t, N_Vector y, N_Vector ydot, void* user) {
@@ -65,12 +78,36 @@ int cv_project(realtype /*t*/, N_Vector ycur, N_Vector corr, realtype /*eps*/, N
   return 0;
 }
 
+/// cvode-bdf-projected: ycur onto the model's manifold (Ode::project), corr = projected -
+/// unprojected, err onto the tangent space. Our own stopping rule (projection.hpp), tighter than
+/// CVODE's epsProj (0.1 in the WRMS norm of the correction's error). Recoverable failure (1) when
+/// the Newton iterations do not converge.
+int cv_project_manifold(realtype /*t*/, N_Vector ycur, N_Vector corr, realtype /*eps*/, N_Vector err, void* user) {
+  auto* u = static_cast<CvodeUser*>(user);
+  const std::size_t n = u->run->n;
+  double* y = N_VGetArrayPointer(ycur);
+  double* c = N_VGetArrayPointer(corr);
+  for (std::size_t i = 0; i < n; ++i) c[i] = y[i];
+  const int iterations = u->run->ode.project(u->target, y, err != nullptr ? N_VGetArrayPointer(err) : nullptr);
+  if (iterations < 0) {
+    for (std::size_t i = 0; i < n; ++i) y[i] = c[i];  // CVODE retries from its own prediction
+    return 1;
+  }
+  for (std::size_t i = 0; i < n; ++i) c[i] = y[i] - c[i];
+  return 0;
+}
+
+enum class Kind { Adams, Bdf, BdfProjected };
+
 }  // namespace
 
 namespace {
 
-Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
+Stats run_cvode(Run& run, std::vector<double>& y, Kind kind) {
+  const bool bdf = kind != Kind::Adams;
+  const bool projected = kind == Kind::BdfProjected;
   CvodeUser user{&run, std::vector<double>(run.n * run.n)};
+  if (projected) user.target = run.ode.projection_target(y.data());
   CvodeObjects cv;
   const auto n = static_cast<sunindextype>(run.n);
   const double t0 = run.times[0];
@@ -95,6 +132,9 @@ Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
          setup(CVodeSetRootDirection(cv.mem, &direction), "CVodeSetRootDirection");
   }
   if (ok && run.ode.renormalizes()) ok = setup(CVodeSetProjFn(cv.mem, cv_project), "CVodeSetProjFn");
+  // Nothing to project (Euler angles of a system without invariants here): plain cvode-bdf.
+  const bool projecting = projected && user.target.count > 0;
+  if (ok && projecting) ok = setup(CVodeSetProjFn(cv.mem, cv_project_manifold), "CVodeSetProjFn");
   if (!ok) return run.stats;
 
   auto collect = [&] {
@@ -146,6 +186,8 @@ Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
                                           (cv.last_message.empty() ? "" : " (" + cv.last_message + ")"));
         break;
       }
+      // Unconverged (never seen): the interpolated state as it is.
+      if (projecting) run.ode.project(user.target, N_VGetArrayPointer(dky), nullptr);
       if (!run.emit(i, N_VGetArrayPointer(dky))) break;
     }
     if (root && !run.stopped()) run.stop_singular(t, N_VGetArrayPointer(cv.y));
@@ -158,7 +200,8 @@ Stats run_cvode(Run& run, std::vector<double>& y, bool bdf) {
 
 }  // namespace
 
-Stats run_cvode_adams(Run& run, std::vector<double>& y) { return run_cvode(run, y, false); }
-Stats run_cvode_bdf(Run& run, std::vector<double>& y) { return run_cvode(run, y, true); }
+Stats run_cvode_adams(Run& run, std::vector<double>& y) { return run_cvode(run, y, Kind::Adams); }
+Stats run_cvode_bdf(Run& run, std::vector<double>& y) { return run_cvode(run, y, Kind::Bdf); }
+Stats run_cvode_bdf_projected(Run& run, std::vector<double>& y) { return run_cvode(run, y, Kind::BdfProjected); }
 
 }  // namespace lgvi::baselines::detail

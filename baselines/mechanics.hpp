@@ -22,6 +22,15 @@
 // and optionally
 //   rates_are_velocities = true            w = (Omega_1..Omega_N, x'): analytic rate Jacobian
 //   velocity_jacobian(t, config, w)        d acceleration / dw, analytic (NW x NW)
+//   max_invariants, invariants(config, w, g), invariant_names()
+//                                          first integrals from the system's functions, kept by
+//                                          cvode-bdf-projected (baselines/projection.hpp): the
+//                                          free body, the pendulum, the dumbbell. The cart-pendulum
+//                                          and the connected bodies have none here (the chart's
+//                                          constraints only; projection.hpp says why), nor has
+//                                          AttitudeMechanicsWithMoment (its extra moment, PD
+//                                          feedback or the orbit's gravity gradient, conserves none
+//                                          of them).
 // The model layer (baselines/model.hpp) differentiates the rest by central differences.
 #pragma once
 
@@ -116,6 +125,39 @@ class AttitudeMechanics {
   }
   bool time_dependent() const { return static_cast<bool>(control_); }
   const S& system() const { return system_; }
+
+  /// First integrals the projection of cvode-bdf-projected keeps (baselines/projection.hpp), from
+  /// the system's own functions:
+  ///   energy E = system.energy(R, Omega), when uncontrolled (a control does work);
+  ///   the free body's Casimir |Pi| (Pi = J Omega) as the norm of FreeRigidBody::spatial_momentum
+  ///   R J Omega (equal for R in SO(3)), when uncontrolled (a moment turns Pi);
+  ///   the pendulum's vertical momentum e3^T R J Omega (Pendulum3D::vertical_momentum), with or
+  ///   without control (its control moment R^T e3 x u has no vertical component).
+  /// Writes them into g and returns how many (the same for every state of a run).
+  static constexpr int max_invariants = 2;
+  int invariants(const Config& c, const Velocity& w, double* g) const {
+    const Mat3& R = c.R[0];
+    int k = 0;
+    if (!control_) g[k++] = system_.energy(R, w);
+    if constexpr (requires { system_.vertical_momentum(R, w); }) {
+      g[k++] = system_.vertical_momentum(R, w);
+    } else if constexpr (!S::has_potential && requires { system_.spatial_momentum(R, w); }) {
+      if (!control_) g[k++] = system_.spatial_momentum(R, w).norm();
+    }
+    return k;
+  }
+  /// The invariants() in words, and what is left out.
+  std::string invariant_names() const {
+    std::string names = control_ ? "" : "E = E_0";
+    if constexpr (requires(const Mat3& R, const Vec3& w) { system_.vertical_momentum(R, w); }) {
+      names += std::string(names.empty() ? "" : ", ") + "e3.(R J Omega) = its initial value";
+    } else if constexpr (!S::has_potential &&
+                         requires(const Mat3& R, const Vec3& w) { system_.spatial_momentum(R, w); }) {
+      if (!control_) names += ", |Pi| = |Pi_0|";
+    }
+    if (control_) names += std::string(names.empty() ? "" : "; ") + "no energy (controlled)";
+    return names;
+  }
 
  private:
   const S& system_;
@@ -244,6 +286,18 @@ class DumbbellMechanics {
   }
   bool time_dependent() const { return static_cast<bool>(control_); }
   const DumbbellSpacecraft& system() const { return system_; }
+
+  /// The first integral the projection of cvode-bdf-projected keeps (baselines/projection.hpp):
+  /// the energy DumbbellSpacecraft::energy(R, x, Omega, v), when uncontrolled. Only the energy:
+  /// the total angular momentum x x m v + R J Omega is conserved too, but the projection is
+  /// scoped to the energy here (its 3 components would make 5 constraints on the 13 states).
+  static constexpr int max_invariants = 1;
+  int invariants(const Config& c, const Velocity& w, double* g) const {
+    if (control_) return 0;
+    g[0] = system_.energy(c.R[0], c.x, w.head<3>(), w.tail<3>());
+    return 1;
+  }
+  std::string invariant_names() const { return control_ ? "no energy (controlled)" : "E = E_0"; }
 
  private:
   const DumbbellSpacecraft& system_;

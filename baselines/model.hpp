@@ -31,6 +31,7 @@
 #include "baselines/coordinates.hpp"
 #include "baselines/mechanics.hpp"
 #include "baselines/ode.hpp"
+#include "baselines/projection.hpp"
 #include "lgvi/inertia.hpp"
 #include "lgvi/systems/free_rigid_body.hpp"
 #include "lgvi/systems/pendulum.hpp"
@@ -157,9 +158,48 @@ class CoordinateOde final : public Ode {
     }
   }
 
+  // Manifold projection (cvode-bdf-projected; baselines/projection.hpp): the chart's constraints
+  // of each body, then the mechanics' invariants (mechanics.hpp invariants(), where it has them).
+  static constexpr bool has_invariants = requires(const M& m, const Config& c, const Velocity& w, double* g) {
+    { m.invariants(c, w, g) } -> std::convertible_to<int>;
+  };
+  static constexpr int kChartConstraints = N * ChartConstraints<Chart>::count;
+  static constexpr int kMaxConstraints = kChartConstraints + [] {
+    if constexpr (has_invariants) {
+      return M::max_invariants;
+    } else {
+      return 0;
+    }
+  }();
+  static_assert(kMaxConstraints <= kMaxProjectionConstraints);
+  using Projection = ManifoldProjection<kDim, std::max(kMaxConstraints, 1)>;
+
+  std::string projection_refusal() const override;
+  std::string projection_constraints() const override;
+  ProjectionTarget projection_target(const double* y0_ptr) const override;
+  int project(const ProjectionTarget& target, double* y_ptr, double* err_ptr) const override;
+
   const M& mechanics() const { return mechanics_; }
 
  private:
+  /// g(y) into out (kMaxConstraints entries at most); returns how many.
+  int constraint_values(const State& y, double* out) const {
+    int k = 0;
+    Config config;
+    for (int i = 0; i < N; ++i) {
+      const typename Chart::Coords c = y.template segment<C>(C * i);
+      ChartConstraints<Chart>::values(c, out + k);
+      k += ChartConstraints<Chart>::count;
+      config.R[i] = Chart::rotation(c);
+    }
+    if constexpr (has_invariants) {
+      config.x = y.template segment<NX>(kX);
+      const Velocity w = y.template segment<NW>(kW);
+      k += mechanics_.invariants(config, w, out + k);
+    }
+    return k;
+  }
+
   static bool singular(const Eigen::Map<const State>& y) {
     if constexpr (std::is_same_v<Chart, EulerChart>) {
       for (int i = 0; i < N; ++i) {
@@ -335,6 +375,68 @@ RhsStatus CoordinateOde<Chart, M>::jacobian(double t, const double* y_ptr, doubl
     J.template block<C, NW>(C * i, kW) = K_O * G_w.template middleRows<3>(3 * i);
   }
   return RhsStatus::Ok;
+}
+
+template <class Chart, Mechanics M>
+std::string CoordinateOde<Chart, M>::projection_refusal() const {
+  if (renormalize_) {
+    return "the quaternion-renormalized model renormalizes through its own post-step hook; the projection keeps "
+           "|q| = 1 on the quaternion model itself (use --model quaternion)";
+  }
+  return {};
+}
+
+template <class Chart, Mechanics M>
+std::string CoordinateOde<Chart, M>::projection_constraints() const {
+  std::string out = ChartConstraints<Chart>::count > 0
+                        ? std::string(ChartConstraints<Chart>::name) + (N > 1 ? " (each body)" : "")
+                        : std::string();
+  std::string invariants;
+  if constexpr (has_invariants) {
+    invariants = mechanics_.invariant_names();
+  } else {
+    // The cart-pendulum, the connected bodies, an attitude system with an extra moment:
+    // baselines/mechanics.hpp says why they have no invariants here.
+    invariants = "no invariant of this system";
+  }
+  out += (out.empty() ? "" : ", ") + invariants;
+  return out + " (Euclidean in the " + std::string(Chart::name) + " model's state)";
+}
+
+template <class Chart, Mechanics M>
+ProjectionTarget CoordinateOde<Chart, M>::projection_target(const double* y0_ptr) const {
+  ProjectionTarget target;
+  if (renormalize_) return target;
+  const State y0 = Eigen::Map<const State>(y0_ptr);
+  target.count = constraint_values(y0, target.value.data());
+  for (int i = 0; i < N; ++i) ChartConstraints<Chart>::targets(target.value.data() + i * ChartConstraints<Chart>::count);
+  return target;
+}
+
+template <class Chart, Mechanics M>
+int CoordinateOde<Chart, M>::project(const ProjectionTarget& target, double* y_ptr, double* err_ptr) const {
+  const int m = target.count;
+  if (m == 0) return 0;
+  const State y = Eigen::Map<const State>(y_ptr);
+  typename Projection::Values g0 = Projection::Values::Zero();
+  for (int i = 0; i < m; ++i) g0(i) = target.value[static_cast<std::size_t>(i)];
+  // G = g'(y) by central differences in each entry of the state (exact up to rounding for the
+  // polynomial constraints; projection.hpp).
+  typename Projection::Gradient G = Projection::Gradient::Zero();
+  typename Projection::Values plus = Projection::Values::Zero(), minus = Projection::Values::Zero();
+  State s = y;
+  for (int j = 0; j < kDim; ++j) {
+    const double a = fd_step(y(j));
+    const double up = y(j) + a, down = y(j) - a;
+    s(j) = up;
+    constraint_values(s, plus.data());
+    s(j) = down;
+    constraint_values(s, minus.data());
+    s(j) = y(j);
+    G.col(j) = (plus - minus) / (up - down);
+  }
+  const auto g = [this](const State& at, typename Projection::Values& out) { constraint_values(at, out.data()); };
+  return Projection::project(g, m, G, g0, y_ptr, err_ptr);
 }
 
 extern template class CoordinateOde<QuaternionChart, AttitudeMechanics<FreeRigidBody>>;

@@ -5,9 +5,23 @@
 // models are templates behind it (baselines/model.hpp).
 #pragma once
 
+#include <array>
 #include <string>
 
 namespace lgvi::baselines {
+
+/// Most constraints a model's manifold projection imposes (baselines/projection.hpp): the chart's
+/// (6 per matrix body, 1 per quaternion) and the mechanics' invariants (at most 2), for at most
+/// two bodies.
+inline constexpr int kMaxProjectionConstraints = 16;
+
+/// The values the projection keeps: one per constraint, in the model's order (the chart's
+/// constraints of each body, then the invariants). Filled by Ode::projection_target from the
+/// initial state.
+struct ProjectionTarget {
+  std::array<double, kMaxProjectionConstraints> value{};
+  int count = 0;
+};
 
 /// Result of evaluating a model's right-hand side or Jacobian.
 enum class RhsStatus {
@@ -47,6 +61,23 @@ class Ode {
   /// Projects an error-estimate vector onto the tangent space of the constraint set at y (unit
   /// quaternions: err_q - q (q . err_q)); CVODE's projection interface uses it.
   virtual void project_error(const double* /*y*/, double* /*err*/) const {}
+
+  /// Manifold projection (cvode-bdf-projected; baselines/projection.hpp): empty when the model
+  /// offers it, else why not (one line, the method's InvalidInput).
+  virtual std::string projection_refusal() const {
+    return "the " + model_name() + " model offers no manifold projection (the coordinate models of "
+           "baselines/model.hpp do)";
+  }
+  /// What the projection keeps, one line, e.g. "|q| = 1, E = E_0, |Pi| = |Pi_0|".
+  virtual std::string projection_constraints() const { return {}; }
+  /// The constraints' values to keep: the chart's exact ones (|q|^2 = 1, R^T R = I) and the
+  /// invariants at the initial state y0. count 0: nothing to project.
+  virtual ProjectionTarget projection_target(const double* /*y0*/) const { return {}; }
+  /// Projects y onto {g(y) = target} (orthogonal in the model's state, simplified Newton) and,
+  /// unless err is null, the error estimate err onto the tangent space there. Returns the
+  /// Newton iterations (>= 0), or -1 when they did not converge (y is then the last iterate).
+  /// Allocates nothing.
+  virtual int project(const ProjectionTarget& /*target*/, double* /*y*/, double* /*err*/) const { return -1; }
 };
 
 }  // namespace lgvi::baselines

@@ -17,6 +17,10 @@ const std::vector<SolverInfo>& solver_list() {
        true, OutputInterpolation::Cvode, detail::run_cvode_adams, true},
       {"cvode-bdf", StepControl::Adaptive, true, "SUNDIALS CVODE BDF (orders 1-5), Newton + dense LU", 0, 0, true,
        OutputInterpolation::Cvode, detail::run_cvode_bdf, true},
+      {"cvode-bdf-projected", StepControl::Adaptive, false,
+       "SUNDIALS CVODE BDF (orders 1-5), Newton + dense LU, projected after every step onto |q| = 1 and the "
+       "invariants (energy when uncontrolled; free body |Pi|, pendulum e3.(R J Omega))",
+       0, 0, true, OutputInterpolation::Cvode, detail::run_cvode_bdf_projected, true, false, true},
       {"odeint-rk4", StepControl::Fixed, true, "Boost.Odeint classic Runge-Kutta 4, fixed step", 4, 4, false,
        OutputInterpolation::FixedGrid, detail::run_odeint_rk4},
       {"odeint-dopri5", StepControl::Adaptive, true, "Boost.Odeint Dormand-Prince 5(4), dense output", 0, 0, false,
@@ -80,6 +84,10 @@ SolverSettings resolve_settings(const SolverInfo& info, const SolverSettings& se
       throw InvalidInput("fixed_step_probe", "must be finite and > 0");
     }
   }
+  if (ode.renormalizes() && info.projects_onto_invariants) {
+    throw InvalidInput("model", info.name + " projects the quaternion model onto |q| = 1 itself (and onto the "
+                                            "invariants): use --model quaternion, not quaternion-renormalized");
+  }
   if (ode.renormalizes() && !info.post_step_hook) {
     // Why each has none is in baselines/solver.hpp (a multistep history that would restart at order
     // 1 every step; ARKODE's post-processing, unseen by its error control).
@@ -113,6 +121,11 @@ Stats integrate(const std::string& method, const Ode& ode, std::span<const doubl
   }
   if (!std::all_of(y0.begin(), y0.end(), [](double v) { return std::isfinite(v); })) {
     throw InvalidInput("y0", "has a non-finite entry");
+  }
+  if (info.projects_onto_invariants) {
+    // Here, not in resolve_settings: the harness checks settings against a stand-in model.
+    const std::string why = ode.projection_refusal();
+    if (!why.empty()) throw InvalidInput("model", info.name + ": " + why);
   }
   if (times.empty()) throw InvalidInput("times", "no output times");
   for (std::size_t i = 0; i < times.size(); ++i) {

@@ -5,6 +5,22 @@
 //   cvode-adams, cvode-bdf     SUNDIALS CVODE, variable order; Newton iteration with a dense
 //                              direct linear solver and the model's Jacobian (or CVODE's
 //                              difference quotient); output from CVODE's interpolant (CVodeGetDky)
+//   cvode-bdf-projected        cvode-bdf with a projection after every step (CVODE's projection
+//                              interface, CVodeSetProjFn; Hindmarsh et al., SUNDIALS CVODE user
+//                              guide, "Projection"; Hairer, Lubich, Wanner, Geometric Numerical
+//                              Integration, sec. IV.4) onto the chart's constraints (|q| = 1 per
+//                              quaternion, R^T R = I per matrix body; none for Euler angles) and the
+//                              system's first integrals: free body E and the Casimir |Pi|, 3D
+//                              pendulum (and Lagrange top) E and e3.(R J Omega), dumbbell E; the
+//                              energy and Casimir only without control (a controlled pendulum
+//                              keeps e3.(R J Omega)); cart-pendulum, connected bodies and a scene
+//                              with an extra moment (PD feedback, gravity gradient): the chart's
+//                              constraints only. Orthogonal in the model's Euclidean state, by
+//                              simplified Newton to 1e-14 relative, the error estimate projected
+//                              onto the tangent space; the output times' interpolated states are
+//                              projected too. Models: quaternion, euler, matrix; the
+//                              quaternion-renormalized model is refused (InvalidInput "model": the
+//                              projection keeps |q| = 1 itself). baselines/projection.hpp
 //   odeint-rk4                 Boost.Odeint classic Runge-Kutta 4, fixed step
 //   odeint-dopri5              Dormand-Prince 5(4), error control and dense output
 //   odeint-rkf78               Runge-Kutta-Fehlberg 7(8), error control; no dense output in
@@ -117,6 +133,9 @@ struct SolverInfo {
   /// An adaptive method that can also step at a fixed h without error control
   /// (SolverSettings::fixed_step_probe: ARKODE), so that its tables' orders can be measured.
   bool offers_fixed_step_probe = false;
+  /// Projects every step onto the model's manifold of constraints and invariants
+  /// (Ode::project: cvode-bdf-projected); integrate() refuses a model without one.
+  bool projects_onto_invariants = false;
 };
 
 /// Every baseline method, in the order of the list above.
@@ -166,7 +185,8 @@ struct SolverSettings {
 /// The settings with defaults filled in, checked against the method and the model. Throws
 /// InvalidInput naming the option: "h" (fixed-step method without a positive finite h, or an
 /// adaptive method given one), "rtol"/"atol" (given to a fixed-step method, or not positive),
-/// "model" (a renormalized model with a method without a post-step hook), "jacobian"
+/// "model" (a renormalized model with a method without a post-step hook, or with
+/// cvode-bdf-projected, which projects the plain quaternion model itself), "jacobian"
 /// (difference quotient requested from a non-CVODE method).
 SolverSettings resolve_settings(const SolverInfo& info, const SolverSettings& settings, const Ode& ode);
 
@@ -185,7 +205,8 @@ using SampleObserver = std::function<bool(std::size_t index, double t, const dou
 ///   CoordinateSingularity  the model's singular set (the time and the angle).
 /// Samples are delivered only for times before the failure. Never prints (CVODE's, ARKODE's and GSL's
 /// error handlers are redirected into the status). Throws InvalidInput for bad settings (see
-/// resolve_settings) or bad times/initial state.
+/// resolve_settings), bad times/initial state, or ("model") a model without the manifold
+/// projection a projecting method needs (Ode::projection_refusal).
 Stats integrate(const std::string& method, const Ode& ode, std::span<const double> y0, std::span<const double> times,
                 const SolverSettings& settings, const SampleObserver& observer);
 

@@ -202,6 +202,7 @@ void fixed_step_loop(Run& run, std::vector<double>& y, Step&& step) {
 // The adapters, one per solver (SolverInfo::adapter; solver_list() names each once).
 Stats run_cvode_adams(Run& run, std::vector<double>& y);
 Stats run_cvode_bdf(Run& run, std::vector<double>& y);
+Stats run_cvode_bdf_projected(Run& run, std::vector<double>& y);
 Stats run_odeint_rk4(Run& run, std::vector<double>& y);
 Stats run_odeint_dopri5(Run& run, std::vector<double>& y);
 Stats run_odeint_rkf78(Run& run, std::vector<double>& y);
