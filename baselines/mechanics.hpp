@@ -26,11 +26,12 @@
 //                                          first integrals from the system's functions, kept by
 //                                          cvode-bdf-projected (baselines/projection.hpp): the
 //                                          free body, the pendulum, the dumbbell. The cart-pendulum
-//                                          and the connected bodies have none here (the chart's
-//                                          constraints only; projection.hpp says why), nor has
+//                                          and the connected bodies have none here (the method
+//                                          refuses them: model.hpp projection_refusal), nor has
 //                                          AttitudeMechanicsWithMoment (its extra moment, PD
 //                                          feedback or the orbit's gravity gradient, conserves none
 //                                          of them).
+//   generalized_force(t, config), separable()   a separable Hamiltonian's forces (below)
 // The model layer (baselines/model.hpp) differentiates the rest by central differences.
 #pragma once
 
@@ -83,6 +84,22 @@ concept Mechanics = requires(const M& m, double t, const typename M::Config& c, 
   { m.time_dependent() } -> std::convertible_to<bool>;
 };
 
+/// A single body whose Hamiltonian is separable, H = 1/2 Pi . J^{-1} Pi (+ 1/2 m |v|^2) +
+/// U(R, x, t): the free rigid body, the 3D pendulum and Lagrange top, the dumbbell (the cart and
+/// the connected bodies have a configuration-dependent mass matrix). w = (Omega, v), and
+/// generalized_force(t, config) is the moment and force of the potential and the controls in
+/// the momenta's equations, (J Omega)' = J Omega x Omega + F_rot, (m v)' = F_trans: the kicks of
+/// the splitting methods (baselines/splitting.hpp). separable() is false where an extra moment
+/// depends on the rate (the scenes' PD feedback): no kick can carry it.
+template <class M>
+concept SeparableMechanics =
+    Mechanics<M> && M::bodies == 1 && M::rates_are_velocities &&
+    requires(const M& m, double t, const typename M::Config& c) {
+      { m.generalized_force(t, c) } -> std::same_as<typename M::Velocity>;
+      { m.separable() } -> std::convertible_to<bool>;
+      { m.system().inertia } -> std::convertible_to<Inertia>;
+    } && (M::positions == 0 || requires(const M& m) { { m.system().mass } -> std::convertible_to<double>; });
+
 /// Euler's equation with the potential's moment and the control moment of an attitude system
 /// (free rigid body, 3D pendulum): w = Omega,
 ///     Omega' = J^{-1} (J Omega x Omega + M(R) + tau(R, u(t))),
@@ -123,6 +140,13 @@ class AttitudeMechanics {
   Velocity velocity_state(const Config& /*c*/, const std::array<Vec3, 1>& Omega, const Vector<0>& /*x_dot*/) const {
     return Omega[0];
   }
+  /// M(R) + tau(R, u(t)) (SeparableMechanics).
+  Velocity generalized_force(double t, const Config& c) const {
+    Vec3 moment = system_.moment(c.R[0]);
+    if (control_) moment += system_.control_moment(c.R[0], control_(t));
+    return moment;
+  }
+  bool separable() const { return true; }
   bool time_dependent() const { return static_cast<bool>(control_); }
   const S& system() const { return system_; }
 
@@ -218,6 +242,12 @@ class AttitudeMechanicsWithMoment {
   Velocity velocity_state(const Config& c, const std::array<Vec3, 1>& Omega, const Vector<0>& x_dot) const {
     return base_.velocity_state(c, Omega, x_dot);
   }
+  /// M(R) + tau(R, u(t)) + tau_e(t, R) (SeparableMechanics); only where tau_e does not depend on
+  /// the rate (separable()).
+  Velocity generalized_force(double t, const Config& c) const {
+    return base_.generalized_force(t, c) + moment_(t, c.R[0], Vec3::Zero());
+  }
+  bool separable() const { return !depends_.rate; }
   bool time_dependent() const { return depends_.time || base_.time_dependent(); }
   const S& system() const { return base_.system(); }
 
@@ -284,6 +314,19 @@ class DumbbellMechanics {
     w << Omega[0], x_dot;
     return w;
   }
+  /// (M(R, x) + u^m(t), f(R, x) + u^f(t)) (SeparableMechanics).
+  Velocity generalized_force(double t, const Config& c) const {
+    const DumbbellSpacecraft::Forces f = system_.forces(c.R[0], c.x);
+    Velocity F;
+    F << f.moment, f.force;
+    if (control_) {
+      const Control u = control_(t);
+      F.head<3>() += u.moment;
+      F.tail<3>() += u.force;
+    }
+    return F;
+  }
+  bool separable() const { return true; }
   bool time_dependent() const { return static_cast<bool>(control_); }
   const DumbbellSpacecraft& system() const { return system_; }
 
@@ -408,6 +451,8 @@ class ConnectedBodiesMechanics {
 
 static_assert(Mechanics<CartPendulumMechanics>);
 static_assert(Mechanics<ConnectedBodiesMechanics>);
+static_assert(SeparableMechanics<DumbbellMechanics> && !SeparableMechanics<CartPendulumMechanics> &&
+              !SeparableMechanics<ConnectedBodiesMechanics>);
 
 /// The state of a one-step method over continuous mechanics Mech (the Lie group methods of
 /// baselines/lie_group.hpp, the harness's one-step driver): the configuration (attitudes R_i,

@@ -383,6 +383,12 @@ std::string CoordinateOde<Chart, M>::projection_refusal() const {
     return "the quaternion-renormalized model renormalizes through its own post-step hook; the projection keeps "
            "|q| = 1 on the quaternion model itself (use --model quaternion)";
   }
+  if constexpr (!has_invariants) {
+    // Projecting the chart's constraints alone is the renormalized model under another name.
+    return "the system gives no invariant to project onto (the cart-pendulum's and the connected bodies' energies "
+           "sit behind a configuration-dependent mass matrix; a PD feedback or orbit moment conserves none): use "
+           "cvode-bdf with --model quaternion-renormalized for |q| = 1";
+  }
   return {};
 }
 

@@ -13,9 +13,10 @@
 //                              system's first integrals: free body E and the Casimir |Pi|, 3D
 //                              pendulum (and Lagrange top) E and e3.(R J Omega), dumbbell E; the
 //                              energy and Casimir only without control (a controlled pendulum
-//                              keeps e3.(R J Omega)); cart-pendulum, connected bodies and a scene
-//                              with an extra moment (PD feedback, gravity gradient): the chart's
-//                              constraints only. Orthogonal in the model's Euclidean state, by
+//                              keeps e3.(R J Omega)); the cart-pendulum, the connected bodies and a
+//                              scene with an extra moment (PD feedback, gravity gradient) have no
+//                              invariant here and are refused (InvalidInput "model": the chart's
+//                              constraints alone are the renormalized model). Orthogonal in the model's Euclidean state, by
 //                              simplified Newton to 1e-14 relative, the error estimate projected
 //                              onto the tangent space; the output times' interpolated states are
 //                              projected too. Models: quaternion, euler, matrix; the

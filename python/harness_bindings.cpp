@@ -312,6 +312,7 @@ py::list method_list() {
     py::dict traits;
     traits["symmetric"] = info.symmetric;
     traits["variational"] = info.variational;
+    traits["symplectic"] = info.symplectic;
     traits["stays_on_group"] = info.stays_on_group;
     traits["preserves_momentum_map"] = info.preserves_momentum_map;
     traits["adaptive"] = info.adaptive();

@@ -6,7 +6,9 @@
 //   rk4-quaternion                     one classical RK4 step of the quaternion model of the
 //                                      same system (quaternion_rk4.hpp), same state, same h;
 //   lie-euler, rkmk2, rkmk4, cg3,      one step of each Lie group method (baselines/lie_group.hpp)
-//   cg4, cf4                           over the system's continuous mechanics, same state, same h.
+//   cg4, cf4                           over the system's continuous mechanics, same state, same h;
+//   splitting-dlm, splitting-exact,    one step of each symplectic method (baselines/splitting.hpp),
+//   nosquish, rattle                   same state, same h.
 // Each iteration is one step along a trajectory from the same initial state; items/s is steps
 // per second, newton_per_step the rotation update's Newton iterations per step (the polishing
 // step included, as RotationUpdateSummary counts them). After the runs a table gives ns per
@@ -23,6 +25,7 @@
 #include <vector>
 
 #include "baselines/lie_group.hpp"
+#include "baselines/splitting.hpp"
 #include "baselines/mechanics.hpp"
 #include "lgvi/composition.hpp"
 #include "lgvi/lgvi.hpp"
@@ -97,6 +100,27 @@ void register_lie_group(const AttitudeCase<System>& c, const char* name) {
   });
 }
 
+/// Steps a symplectic method's flow (baselines/splitting.hpp) over the case's attitude mechanics.
+template <template <class> class FlowOf, class System>
+void register_splitting(const AttitudeCase<System>& c, const char* name) {
+  benchmark::RegisterBenchmark((c.name + "/" + name).c_str(), [c](benchmark::State& bench) {
+    using Mech = baselines::AttitudeMechanics<System>;
+    const Mech mech(c.system);
+    const FlowOf<Mech> flow(mech);
+    baselines::MechanicsState<Mech> start;
+    start.config.R[0] = c.R0;
+    start.w = c.Omega0;
+    auto s = flow.make_state(start, 0.0);
+    double t = 0.0;
+    for (auto _ : bench) {
+      flow.step(s, c.h, t, t + c.h, s);
+      t += c.h;
+      benchmark::DoNotOptimize(s);
+    }
+    bench.SetItemsProcessed(bench.iterations());
+  });
+}
+
 template <class System>
 void register_attitude(const AttitudeCase<System>& c) {
   for (const Parametrization p : {Parametrization::Cayley, Parametrization::Exponential}) {
@@ -134,6 +158,10 @@ void register_attitude(const AttitudeCase<System>& c) {
     const Mech mech(c.system);
     run_lie_group_steps(bench, lg::CommutatorFree4Flow<Mech>(mech), c);
   });
+  register_splitting<baselines::splitting::DlmFlow>(c, "splitting-dlm");
+  register_splitting<baselines::splitting::ExactFreeFlow>(c, "splitting-exact");
+  register_splitting<baselines::splitting::NoSquishFlow>(c, "nosquish");
+  register_splitting<baselines::splitting::RattleFlow>(c, "rattle");
 }
 
 /// |R_lgvi - R_rk4|_F + |Omega_lgvi - Omega_rk4| after `steps` steps from the case's state.

@@ -208,17 +208,21 @@ MethodInfo baseline_method_info(const baselines::SolverInfo& solver) {
     if (model == CoordinateModel::QuaternionRenormalized && !solver.post_step_hook) continue;
     models.push_back(model);
   }
-  return {solver.name,
-          MethodFamily::Baseline,
-          solver.order,
-          static_cast<std::size_t>(solver.stages),
-          solver.step_control,
-          solver.uses_jacobian,
-          models,
-          true,
-          false,
-          solver.name,
-          [&solver](const MethodOptions& options) { return make_baseline(solver, options); }};
+  MethodInfo info{solver.name,
+                  MethodFamily::Baseline,
+                  solver.order,
+                  static_cast<std::size_t>(solver.stages),
+                  solver.step_control,
+                  solver.uses_jacobian,
+                  models,
+                  true,
+                  false,
+                  solver.name,
+                  [&solver](const MethodOptions& options) { return make_baseline(solver, options); }};
+  // The systems whose mechanics give their invariants (baselines/mechanics.hpp invariants());
+  // the others are refused at run time (Ode::projection_refusal).
+  if (solver.projects_onto_invariants) info.systems = {"free-body", "pendulum", "dumbbell"};
+  return info;
 }
 
 }  // namespace lgvi::experiments

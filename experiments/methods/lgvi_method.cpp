@@ -86,6 +86,7 @@ std::unique_ptr<Method> make_lgvi(std::optional<CompositionScheme> scheme, const
 MethodInfo with_lgvi_traits(MethodInfo info) {
   info.symmetric = true;
   info.variational = true;
+  info.symplectic = true;
   info.stays_on_group = true;
   info.preserves_momentum_map = true;
   info.takes_rotation_update = true;

@@ -85,7 +85,11 @@ struct MethodInfo {
   bool symmetric = false;
   /// The flow of a discrete variational principle (eqs. 7-9): symplectic, and by its discrete
   /// Noether theorem it keeps the momentum maps of the symmetries of its discrete Lagrangian.
+  /// The LGVI family, solved as the paper solves eqs. 7-9 (rattle reaches the symmetric LGVI's
+  /// map by another route and is listed as symplectic only, beside the splittings).
   bool variational = false;
+  /// Its flow is a symplectic map of T*SO(3) (x T*R^3): the LGVIs, the splittings, NO_SQUISH, RATTLE.
+  bool symplectic = false;
   /// Its attitudes stay on SO(3) to round-off at every step (a Lie group method); a coordinate
   /// model's baseline on quaternions or matrices drifts off it.
   bool stays_on_group = false;
@@ -100,6 +104,9 @@ struct MethodInfo {
   /// The extremes suite expects every case of it to complete (a failure is a finding, not a
   /// limit of the method): the LGVIs at the steps the suite sweeps.
   bool must_complete_at_extremes = false;
+  /// Integrates the uncontrolled free rigid body exactly (splitting-exact): its differences of
+  /// successive step sizes there are rounding, so no order is measured on such a scene.
+  bool exact_for_free_body = false;
   /// Scene systems it applies to ("pendulum", ...); empty: every system.
   std::vector<std::string> systems = {};
 
@@ -116,7 +123,7 @@ const std::vector<MethodInfo>& method_registry();
 std::vector<const MethodInfo*> methods_where(const std::function<bool(const MethodInfo&)>& trait);
 /// The registered methods whose traits satisfy `query`, in registration order: trait names
 /// joined by " and ", each optionally preceded by "not ", e.g. "on_group and not variational"
-/// (the Lie group methods). Trait names: symmetric, variational, stays_on_group,
+/// (the Lie group methods). Trait names: symmetric, variational, symplectic, stays_on_group,
 /// preserves_momentum_map, on_group, fixed_step, adaptive. Throws InvalidInput("methods", ...)
 /// for an empty query or an unknown trait (naming the known ones). The study files' method lists
 /// take such a query ({ where = "..." }).

@@ -104,22 +104,53 @@ Stats with_mechanics(const Scene& scene, Fn&& fn) {
   });
 }
 
+/// Whether Scheme::Flow<Mech> exists: a scheme may restrict its mechanics by a member
+/// `template <class Mech> static constexpr bool applies` (the splittings: a separable
+/// Hamiltonian), naming why in `static constexpr const char* applies_to_what`; otherwise it
+/// applies to every system.
+template <class Scheme, class Mech>
+constexpr bool scheme_applies() {
+  if constexpr (requires { Scheme::template applies<Mech>; }) {
+    return Scheme::template applies<Mech>;
+  } else {
+    return true;
+  }
+}
+
 /// A Method running Scheme::Flow<Mech> (see the top of this file) over the continuous mechanics
 /// of the scene's system (its binding's run_baseline), at the scene's h, with the scene's
-/// controls inside the mechanics (the flow's Control is the time). Takes no options.
+/// controls inside the mechanics (the flow's Control is the time). A flow whose state carries
+/// more than the MechanicsState (a cached force) provides make_state(mechanics_state, t0).
+/// Takes no options. A system the scheme does not apply to is refused (InvalidInput "method").
 template <class Scheme>
 class MechanicsFlowMethod final : public Method {
  public:
   explicit MechanicsFlowMethod(std::string name) : name_(std::move(name)) {}
 
   std::string name() const override { return name_; }
-  Fields settings(const Scene& /*scene*/) const override { return {{"state", std::string("R_i, x, w (mechanics)")}}; }
+  Fields settings(const Scene& /*scene*/) const override {
+    Fields f = {{"state", std::string("R_i, x, w (mechanics)")}};
+    if constexpr (requires { Scheme::description; }) f.push_back({"scheme", std::string(Scheme::description)});
+    return f;
+  }
 
   Stats run(const Scene& scene, Recorder& recorder) const override {
     return with_mechanics(scene, [&](const auto& mech, auto& state, Sample& sample, auto& record, const auto& to_state) {
       using Mech = std::decay_t<decltype(mech)>;
-      const typename Scheme::template Flow<Mech> flow(mech);
-      return drive_flow(flow, state, scene.horizon, [](double t) { return t; }, to_state, sample, record, recorder);
+      if constexpr (scheme_applies<Scheme, Mech>()) {
+        const typename Scheme::template Flow<Mech> flow(mech);
+        const auto time = [](double t) { return t; };
+        if constexpr (requires { flow.make_state(state, 0.0); }) {
+          auto flow_state = flow.make_state(state, 0.0);
+          return drive_flow(flow, flow_state, scene.horizon, time, to_state, sample, record, recorder);
+        } else {
+          return drive_flow(flow, state, scene.horizon, time, to_state, sample, record, recorder);
+        }
+      } else {
+        throw InvalidInput("method", name_ + " " + Scheme::applies_to_what + " (the scene's system: " +
+                                         scene.system() + ")");
+        return Stats{};
+      }
     });
   }
 

@@ -14,6 +14,7 @@ namespace lgvi::experiments {
 MethodInfo lgvi_method_info();                                          // lgvi_method.cpp
 MethodInfo composed_lgvi_method_info(const char* scheme);               // lgvi_method.cpp
 MethodInfo lie_group_method_info(const std::string& name);              // lie_group_methods.cpp
+MethodInfo symplectic_method_info(const std::string& name);             // symplectic_methods.cpp
 MethodInfo baseline_method_info(const baselines::SolverInfo& solver);  // baseline_method.cpp
 
 const std::vector<MethodInfo>& method_registry() {
@@ -25,6 +26,9 @@ const std::vector<MethodInfo>& method_registry() {
     }
     for (const char* name : {"lie-euler", "rkmk2", "rkmk4", "cg3", "cg4", "cf4", "rkmk45"}) {
       r.push_back(lie_group_method_info(name));
+    }
+    for (const char* name : {"splitting-dlm", "splitting-exact", "nosquish", "rattle"}) {
+      r.push_back(symplectic_method_info(name));
     }
     for (const baselines::SolverInfo& solver : baselines::solver_list()) r.push_back(baseline_method_info(solver));
     return r;
@@ -62,6 +66,7 @@ const std::vector<std::pair<std::string_view, bool (*)(const MethodInfo&)>>& nam
   static const std::vector<std::pair<std::string_view, bool (*)(const MethodInfo&)>> traits = {
       {"symmetric", [](const MethodInfo& m) { return m.symmetric; }},
       {"variational", [](const MethodInfo& m) { return m.variational; }},
+      {"symplectic", [](const MethodInfo& m) { return m.symplectic; }},
       {"stays_on_group", [](const MethodInfo& m) { return m.stays_on_group; }},
       {"preserves_momentum_map", [](const MethodInfo& m) { return m.preserves_momentum_map; }},
       {"on_group", [](const MethodInfo& m) { return m.on_group(); }},

@@ -48,6 +48,7 @@ std::vector<MethodSpec> long_run_methods(bool quick) {
     for (const auto& [method, model] : std::vector<std::pair<const char*, const char*>>{
              {"cvode-adams", "quaternion"},
              {"cvode-bdf", "quaternion"},
+             {"cvode-bdf-projected", "quaternion"},
              {"odeint-rk4", "quaternion"},
              {"odeint-rk4", "quaternion-renormalized"},
              {"odeint-rk4", "matrix"},

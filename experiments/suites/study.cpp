@@ -519,6 +519,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
   if (has(metrics, "momentum")) s.columns.push_back("momentum_map");
 
   std::set<std::string> ids;
+  std::set<std::string> applied;  // the methods with a case
   for (const SceneEntry& e : scenes) {
     if (reference.kind == Reference::Kind::Exact) {
       std::string why_not;
@@ -607,7 +608,12 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
         c.group = group;
         s.cases.push_back(std::move(c));
       };
+      // A method applies to the systems its traits name (a splitting: the separable ones); it
+      // is left out of the other scenes, and refused below if it applies to none.
+      const std::string system = e.scene->system();
       for (const MethodSpec& m : fixed_methods) {
+        if (!m.info->applies_to(system)) continue;
+        applied.insert(m.method);
         // A first-order method (Lie-Euler: explicit, its energy grows by (1 + h^2 |Omega|^2)^(1/2)
         // a step on these undamped systems) may overflow on a long horizon at any step: a probe
         // at every step.
@@ -626,6 +632,8 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
         }
       }
       for (MethodSpec m : adaptive_methods) {
+        if (!m.info->applies_to(system)) continue;
+        applied.insert(m.method);
         for (const double rtol : scene_tolerances) {
           m.rtol = rtol;
           SimulateSpec spec;
@@ -638,6 +646,14 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
                                     ref));
         }
       }
+    }
+  }
+  for (const std::vector<MethodSpec>* list : {&fixed_methods, &adaptive_methods}) {
+    for (const MethodSpec& m : *list) {
+      if (applied.contains(m.method)) continue;
+      std::string systems;
+      for (const std::string& name : m.info->systems) systems += (systems.empty() ? "" : ", ") + name;
+      r.fail("methods", m.method + " applies to none of the study's scenes (its systems: " + systems + ")");
     }
   }
   if (s.cases.empty()) r.fail("methods", "the study has no cases");
