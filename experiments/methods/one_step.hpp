@@ -117,6 +117,18 @@ constexpr bool scheme_applies() {
   }
 }
 
+/// Why Scheme::Flow<Mech> does not exist (Scheme::applies_to_what). A function, so that the
+/// member is named only by schemes that restrict their mechanics (clang checks a non-dependent
+/// name in a discarded branch).
+template <class Scheme>
+constexpr const char* scheme_restriction() {
+  if constexpr (requires { Scheme::applies_to_what; }) {
+    return Scheme::applies_to_what;
+  } else {
+    return "does not apply to this system";
+  }
+}
+
 /// A Method running Scheme::Flow<Mech> (see the top of this file) over the continuous mechanics
 /// of the scene's system (its binding's run_baseline), at the scene's h, with the scene's
 /// controls inside the mechanics (the flow's Control is the time). A flow whose state carries
@@ -147,7 +159,7 @@ class MechanicsFlowMethod final : public Method {
           return drive_flow(flow, state, scene.horizon, time, to_state, sample, record, recorder);
         }
       } else {
-        throw InvalidInput("method", name_ + " " + Scheme::applies_to_what + " (the scene's system: " +
+        throw InvalidInput("method", name_ + " " + scheme_restriction<Scheme>() + " (the scene's system: " +
                                          scene.system() + ")");
         return Stats{};
       }
