@@ -38,7 +38,7 @@
 // of frame is exact). The composition's order of the axes is a choice the papers leave open
 // (Fasso, J. Comput. Phys. 189 (2003), shows the energy error's constant depends on it): here
 // the smallest moment's axis takes the full step in the middle, as NO_SQUISH prints it with
-// axis 1 in the middle; docs/symplectic.md reports the other orders' errors.
+// axis 1 in the middle (docs/symplectic.md; the other orders are not measured here).
 //
 // The flows take any Mech and assert SeparableMechanics<Mech> (a constrained class template
 // would not pass through the harness's scheme aliases with GCC 12).

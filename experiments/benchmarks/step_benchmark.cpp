@@ -76,16 +76,23 @@ struct AttitudeCase {
   double h;
 };
 
-/// Steps a Lie group method's flow (baselines/lie_group.hpp) over the case's attitude mechanics.
-template <class Flow, class System>
-void run_lie_group_steps(benchmark::State& bench, const Flow& flow, const AttitudeCase<System>& c) {
-  baselines::MechanicsState<baselines::AttitudeMechanics<System>> s;
+/// The case's initial state as a MechanicsState of its attitude mechanics.
+template <class Mech, class System>
+baselines::MechanicsState<Mech> mechanics_start(const AttitudeCase<System>& c) {
+  baselines::MechanicsState<Mech> s;
   s.config.R[0] = c.R0;
   s.w = c.Omega0;
+  return s;
+}
+
+/// Steps a flow over a system's mechanics (baselines/lie_group.hpp, baselines/splitting.hpp) from
+/// `s` at step h.
+template <class Flow, class State>
+void run_flow_steps(benchmark::State& bench, const Flow& flow, State s, double h) {
   double t = 0.0;
   for (auto _ : bench) {
-    flow.step(s, c.h, t, t + c.h, s);
-    t += c.h;
+    flow.step(s, h, t, t + h, s);
+    t += h;
     benchmark::DoNotOptimize(s);
   }
   bench.SetItemsProcessed(bench.iterations());
@@ -96,7 +103,7 @@ void register_lie_group(const AttitudeCase<System>& c, const char* name) {
   benchmark::RegisterBenchmark((c.name + "/" + name).c_str(), [c](benchmark::State& bench) {
     using Mech = baselines::AttitudeMechanics<System>;
     const Mech mech(c.system);
-    run_lie_group_steps(bench, FlowOf<Mech, Tableau>(mech), c);
+    run_flow_steps(bench, FlowOf<Mech, Tableau>(mech), mechanics_start<Mech>(c), c.h);
   });
 }
 
@@ -107,17 +114,7 @@ void register_splitting(const AttitudeCase<System>& c, const char* name) {
     using Mech = baselines::AttitudeMechanics<System>;
     const Mech mech(c.system);
     const FlowOf<Mech> flow(mech);
-    baselines::MechanicsState<Mech> start;
-    start.config.R[0] = c.R0;
-    start.w = c.Omega0;
-    auto s = flow.make_state(start, 0.0);
-    double t = 0.0;
-    for (auto _ : bench) {
-      flow.step(s, c.h, t, t + c.h, s);
-      t += c.h;
-      benchmark::DoNotOptimize(s);
-    }
-    bench.SetItemsProcessed(bench.iterations());
+    run_flow_steps(bench, flow, flow.make_state(mechanics_start<Mech>(c), 0.0), c.h);
   });
 }
 
@@ -156,7 +153,7 @@ void register_attitude(const AttitudeCase<System>& c) {
   benchmark::RegisterBenchmark((c.name + "/cf4").c_str(), [c](benchmark::State& bench) {
     using Mech = baselines::AttitudeMechanics<System>;
     const Mech mech(c.system);
-    run_lie_group_steps(bench, lg::CommutatorFree4Flow<Mech>(mech), c);
+    run_flow_steps(bench, lg::CommutatorFree4Flow<Mech>(mech), mechanics_start<Mech>(c), c.h);
   });
   register_splitting<baselines::splitting::DlmFlow>(c, "splitting-dlm");
   register_splitting<baselines::splitting::ExactFreeFlow>(c, "splitting-exact");

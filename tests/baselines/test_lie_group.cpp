@@ -23,6 +23,7 @@
 #include "lgvi/so3.hpp"
 #include "lgvi/systems/free_rigid_body.hpp"
 #include "lgvi/systems/pendulum.hpp"
+#include "exact_cases.hpp"
 #include "test_support.hpp"
 
 namespace lgvi::test::lie_group_tests {
@@ -130,22 +131,7 @@ TEST(LieGroupTableaus, RowSumsAreTheNodes) {
 
 // --- Order against exact solutions -------------------------------------------------------------
 
-/// The free body around its largest axis and the Lagrange top spun from hanging (the cases of
-/// tests/baselines/test_exact.cpp).
-const Mat3& free_J() {
-  static const Mat3 J = Vec3(0.13, 0.28, 0.17).asDiagonal();
-  return J;
-}
-const Mat3& free_R0() {
-  static const Mat3 R0 = so3::exp(Vec3(0.3, -0.2, 0.5));
-  return R0;
-}
-const Vec3 kFreeOmega0(0.5, 3.0, 0.4);
-const Pendulum3D& top() {
-  static const Pendulum3D p(1.0, Vec3(0.14, 0.14, 0.08).asDiagonal(), Vec3(0.0, 0.0, 0.3), 9.81);
-  return p;
-}
-const Vec3 kTopOmega0(1.0, 2.0, 5.0);
+using namespace exact_cases;  // free_J, free_R0, kFreeOmega0, top, kTopOmega0 (exact_cases.hpp)
 
 using FreeMech = baselines::AttitudeMechanics<FreeRigidBody>;
 using TopMech = baselines::AttitudeMechanics<Pendulum3D>;

@@ -28,6 +28,7 @@
 #include "lgvi/systems/dumbbell.hpp"
 #include "lgvi/systems/free_rigid_body.hpp"
 #include "lgvi/systems/pendulum.hpp"
+#include "exact_cases.hpp"
 #include "test_support.hpp"
 
 namespace lgvi::test::splitting_tests {
@@ -43,27 +44,14 @@ template <class Mech> using Exact = sp::ExactFreeFlow<Mech>;
 template <class Mech> using NoSquish = sp::NoSquishFlow<Mech>;
 template <class Mech> using Rattle = sp::RattleFlow<Mech>;
 
-// The free body around its largest axis and the Lagrange top spun from hanging (the cases of
-// test_exact.cpp and test_lie_group.cpp); a non-diagonal inertia exercises the principal frame.
-const Mat3& free_J() {
-  static const Mat3 J = Vec3(0.13, 0.28, 0.17).asDiagonal();
-  return J;
-}
+using namespace exact_cases;  // free_J, free_R0, kFreeOmega0, top, kTopOmega0 (exact_cases.hpp)
+
+// A non-diagonal inertia exercises the principal frame.
 const Mat3& rotated_J() {
   static const Mat3 Q = so3::exp(Vec3(0.4, -0.3, 0.2));
   static const Mat3 J = Q * free_J() * Q.transpose();
   return J;
 }
-const Mat3& free_R0() {
-  static const Mat3 R0 = so3::exp(Vec3(0.3, -0.2, 0.5));
-  return R0;
-}
-const Vec3 kFreeOmega0(0.5, 3.0, 0.4);
-const Pendulum3D& top() {
-  static const Pendulum3D p(1.0, Vec3(0.14, 0.14, 0.08).asDiagonal(), Vec3(0.0, 0.0, 0.3), 9.81);
-  return p;
-}
-const Vec3 kTopOmega0(1.0, 2.0, 5.0);
 // An asymmetric pendulum swinging about 0.5 rad from hanging (a regular motion).
 const Pendulum3D& pendulum() {
   static const Pendulum3D p(1.0, Vec3(0.12, 0.09, 0.05).asDiagonal(), Vec3(0.02, -0.01, 0.25), 9.81);
