@@ -13,6 +13,7 @@
 #include <cmath>
 #include <iostream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "allocation_counter.hpp"
@@ -171,21 +172,13 @@ template <class Mech> using Cf4 = lg::CommutatorFree4Flow<Mech>;
 /// range (h |Omega| <= 0.2).
 template <template <class> class FlowOf>
 void expect_order(const char* name, int order, int coarse_steps) {
-  const double T = 1.0;
-  const FreeRigidBody body(free_J());
-  const FreeMech free_mech(body);
-  const baselines::FreeRigidBodyExact free_exact(free_J(), free_R0(), kFreeOmega0);
-  const TopMech top_mech(top());
-  const baselines::LagrangeTopExact top_exact(top(), Mat3::Identity(), kTopOmega0);
-  std::array<double, 4> h{}, e_free{}, e_top{};
-  for (int i = 0; i < 4; ++i) {
-    const int n = coarse_steps << i;
-    h[i] = T / n;
-    e_free[i] = error_at<FlowOf>(free_mech, initial_state<FreeMech>(free_R0(), kFreeOmega0),
-                                 free_exact.state(T), T, n);
-    e_top[i] = error_at<FlowOf>(top_mech, initial_state<TopMech>(Mat3::Identity(), kTopOmega0),
-                                top_exact.state(T), T, n);
-  }
+  const ExactErrors e = exact_errors(
+      [](const auto& mech, const Mat3& R0, const Vec3& Omega0, const baselines::ExactState& exact, double T, int n) {
+        using Mech = std::decay_t<decltype(mech)>;
+        return error_at<FlowOf>(mech, initial_state<Mech>(R0, Omega0), exact, T, n);
+      },
+      coarse_steps);
+  const auto& [h, e_free, e_top] = e;
   const double s_free = loglog_slope(h, e_free), s_top = loglog_slope(h, e_top);
   std::cout << "[ slope    ] " << name << ": free body " << s_free << " (errors " << e_free[0] << " .. " << e_free[3]
             << "), Lagrange top " << s_top << " (errors " << e_top[0] << " .. " << e_top[3] << ")\n";

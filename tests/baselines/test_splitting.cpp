@@ -88,20 +88,12 @@ double distance(const State& y, const baselines::ExactState& e) {
 /// the finest error far above round-off).
 template <template <class> class FlowOf>
 void expect_second_order(const char* name, bool on_free_body) {
-  const double T = 1.0;
-  const int coarse = 100;
-  const FreeRigidBody body(free_J());
-  const FreeMech free_mech(body);
-  const baselines::FreeRigidBodyExact free_exact(free_J(), free_R0(), kFreeOmega0);
-  const TopMech top_mech(top());
-  const baselines::LagrangeTopExact top_exact(top(), Mat3::Identity(), kTopOmega0);
-  std::array<double, 4> h{}, e_free{}, e_top{};
-  for (int i = 0; i < 4; ++i) {
-    const int n = coarse << i;
-    h[i] = T / n;
-    e_free[i] = distance(run<FlowOf>(free_mech, free_R0(), kFreeOmega0, h[i], n), free_exact.state(T));
-    e_top[i] = distance(run<FlowOf>(top_mech, Mat3::Identity(), kTopOmega0, h[i], n), top_exact.state(T));
-  }
+  const ExactErrors e = exact_errors(
+      [](const auto& mech, const Mat3& R0, const Vec3& Omega0, const baselines::ExactState& exact, double T, int n) {
+        return distance(run<FlowOf>(mech, R0, Omega0, T / n, n), exact);
+      },
+      100);
+  const auto& [h, e_free, e_top] = e;
   const double s_top = loglog_slope(h, e_top);
   std::cout << "[ slope    ] " << name << ": Lagrange top " << s_top << " (errors " << e_top[0] << " .. " << e_top[3]
             << ")";
