@@ -172,7 +172,7 @@ class CoordinateOde final : public Ode {
     }
   }();
   static_assert(kMaxConstraints <= kMaxProjectionConstraints);
-  using Projection = ManifoldProjection<kDim, std::max(kMaxConstraints, 1)>;
+  static_assert(kDim <= kMaxProjectionDim, "raise kMaxProjectionDim (projection.hpp)");
 
   std::string projection_refusal() const override;
   std::string projection_constraints() const override;
@@ -424,12 +424,11 @@ int CoordinateOde<Chart, M>::project(const ProjectionTarget& target, double* y_p
   const int m = target.count;
   if (m == 0) return 0;
   const State y = Eigen::Map<const State>(y_ptr);
-  typename Projection::Values g0 = Projection::Values::Zero();
-  for (int i = 0; i < m; ++i) g0(i) = target.value[static_cast<std::size_t>(i)];
   // G = g'(y) by central differences in each entry of the state (exact up to rounding for the
-  // polynomial constraints; projection.hpp).
-  typename Projection::Gradient G = Projection::Gradient::Zero();
-  typename Projection::Values plus = Projection::Values::Zero(), minus = Projection::Values::Zero();
+  // polynomial constraints; projection.hpp), m rows of kDim entries.
+  using Values = Eigen::Matrix<double, std::max(kMaxConstraints, 1), 1>;
+  Eigen::Matrix<double, std::max(kMaxConstraints, 1), kDim, Eigen::RowMajor> G;
+  Values plus = Values::Zero(), minus = Values::Zero();
   State s = y;
   for (int j = 0; j < kDim; ++j) {
     const double a = fd_step(y(j));
@@ -441,8 +440,11 @@ int CoordinateOde<Chart, M>::project(const ProjectionTarget& target, double* y_p
     s(j) = y(j);
     G.col(j) = (plus - minus) / (up - down);
   }
-  const auto g = [this](const State& at, typename Projection::Values& out) { constraint_values(at, out.data()); };
-  return Projection::project(g, m, G, g0, y_ptr, err_ptr);
+  const ConstraintFunction g{this, [](const void* self, const double* at, double* out) {
+                               static_cast<const CoordinateOde*>(self)->constraint_values(
+                                   Eigen::Map<const State>(at), out);
+                             }};
+  return project_onto_constraints(g, kDim, m, G.data(), target.value.data(), y_ptr, err_ptr);
 }
 
 extern template class CoordinateOde<QuaternionChart, AttitudeMechanics<FreeRigidBody>>;

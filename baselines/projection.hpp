@@ -33,16 +33,12 @@
 // each entry), ~eps^(2/3) relative for the dumbbell's potential: the simplified Newton iteration
 // converges either way (its contraction is ~ |y - y~| (the step's local error) times the
 // constraints' curvature, plus the gradient's error), and the fixed point is g(y) = g_0 exactly.
-// Fixed-size Eigen types (MaxC rows, the run's m constraints in the first m): nothing is allocated.
+// Work arrays of fixed capacity (the run's m constraints and the model's dim entries in the first rows and
+// columns), compiled once for every model (projection.cpp): nothing is allocated.
 #pragma once
 
-#include <Eigen/Cholesky>
-#include <Eigen/Core>
-#include <algorithm>
-#include <cmath>
-#include <limits>
-
 #include "baselines/coordinates.hpp"
+#include "baselines/ode.hpp"
 
 namespace lgvi::baselines {
 
@@ -89,76 +85,23 @@ struct ChartConstraints<EulerChart> {
   static void targets(double*) {}
 };
 
-/// The simplified Newton projection above, for a state of Dim entries and at most MaxC
-/// constraints.
-template <int Dim, int MaxC>
-struct ManifoldProjection {
-  // Fixed MaxC rows: the m constraints of a run fill the first m, the others are zero (their
-  // gradient rows too, so they neither move y nor count in the residual).
-  using State = Eigen::Matrix<double, Dim, 1>;
-  using Values = Eigen::Matrix<double, MaxC, 1>;
-  using Gradient = Eigen::Matrix<double, MaxC, Dim, Eigen::RowMajor>;
-  using Gram = Eigen::Matrix<double, MaxC, MaxC>;
+/// Most entries of a model state the projection takes (the connected bodies' matrix model has 26).
+inline constexpr int kMaxProjectionDim = 32;
 
-  static constexpr int kMaxIterations = 10;
-  static constexpr double kTolerance = 1e-14;       ///< the stopping rule, relative to s_i
-  static constexpr double kRoundoffFloor = 1e-12;   ///< accepted when the iteration stagnates
-  static constexpr double kRegularization = 1e-13;  ///< added to the unit diagonal of G G^T
-
-  /// Projects y (in place) onto g(y) = g0 (the first m entries; the rest zero) with the gradient
-  /// G = g'(y) (the first m rows; the rest zero), and err (unless null) onto the tangent space.
-  /// `g(y, out)` evaluates the m constraints into out's first m entries. Returns the iterations,
-  /// or -1 (not converged: y is the last iterate, err untouched).
-  template <class Constraints>
-  static int project(const Constraints& g, int m, Gradient G, const Values& g0, double* y_ptr, double* err_ptr) {
-    if (m == 0) return 0;
-    Eigen::Map<State> y(y_ptr);
-    const State y_tilde = y;
-    Values scale = Values::Ones(), r = Values::Zero();
-    for (int i = 0; i < m; ++i) {
-      scale(i) = std::max(std::abs(g0(i)), G.row(i).cwiseProduct(y_tilde.transpose()).cwiseAbs().sum());
-      if (!(scale(i) > 0.0)) scale(i) = std::numeric_limits<double>::min();
-      const double norm = G.row(i).norm();
-      // A constraint without gradient (a free body at rest: E = 0 and grad E = 0) cannot be
-      // corrected; its row stays zero (and its residual is checked as the others').
-      r(i) = norm > 0.0 ? 1.0 / norm : 0.0;
-    }
-    const Values row_scale = r;
-    G = row_scale.asDiagonal() * G;
-    Gram A = G * G.transpose();
-    A.diagonal().array() += kRegularization;
-    const Eigen::LLT<Gram> llt(A);
-    if (llt.info() != Eigen::Success) return -1;
-
-    auto residual = [&](const State& at) {
-      r.setZero();
-      g(at, r);
-      r -= g0;
-      return (r.cwiseAbs().cwiseQuotient(scale)).maxCoeff();
-    };
-    Values mu = Values::Zero();
-    double res = residual(y_tilde);
-    int it = 0;
-    while (res > kTolerance) {
-      if (it == kMaxIterations) return res <= kRoundoffFloor ? it : -1;
-      mu -= llt.solve(Values(row_scale.cwiseProduct(r)));
-      y = y_tilde + G.transpose() * mu;
-      ++it;
-      const double previous = res;
-      res = residual(y);
-      if (!std::isfinite(res)) return -1;
-      if (res > 0.5 * previous) {  // stagnation: round-off, or no contraction
-        if (res <= kRoundoffFloor) break;
-        if (res > previous) return -1;
-      }
-    }
-    if (err_ptr != nullptr) {
-      Eigen::Map<State> err(err_ptr);
-      const Values Ge = G * err;
-      err -= G.transpose() * llt.solve(Ge);
-    }
-    return it;
-  }
+/// The constraints g as a plain callable: `evaluate(context, y, g)` writes the run's m values at
+/// the state y into g.
+struct ConstraintFunction {
+  const void* context = nullptr;
+  void (*evaluate)(const void* context, const double* y, double* g) = nullptr;
 };
+
+/// The simplified Newton projection above, compiled once (projection.cpp) for every model: it
+/// projects y (dim entries, in place) onto g(y) = g0 (m values) with the gradient G = g'(y)
+/// (`gradient`: m rows of dim entries each, row after row), and err (unless null) onto the
+/// tangent space. Work arrays of fixed capacity (m <= kMaxProjectionConstraints,
+/// dim <= kMaxProjectionDim; InvalidInput beyond): nothing is allocated. Returns the iterations,
+/// or -1 (not converged: y is the last iterate, err untouched).
+int project_onto_constraints(const ConstraintFunction& g, int dim, int m, const double* gradient, const double* g0,
+                             double* y, double* err);
 
 }  // namespace lgvi::baselines
