@@ -58,6 +58,63 @@ struct NewtonArmijoOptions {
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
 
+/// The two evaluations the Newton iterations hold: the accepted point's and a trial's.
+enum class Shot { Current, Trial };
+
+/// What is shot, seen by the Newton iterations (the Problem below, behind one virtual boundary so
+/// that the iterations compile once per N (newton_armijo.cpp: N = 6, 12) instead of once per
+/// problem). ShotsOf adapts a Problem and its Evaluation type.
+template <int N>
+class Shots {
+ public:
+  using Vec = Eigen::Matrix<double, N, 1>;
+  using Mat = Eigen::Matrix<double, N, N>;
+  virtual ~Shots() = default;
+  /// One shot into the slot (Problem::evaluate).
+  virtual bool evaluate(const Vec& lambda, bool jacobian, Shot slot) = 0;
+  /// The trial becomes the accepted point.
+  virtual void keep_trial() = 0;
+  virtual const Vec& residual(Shot slot) const = 0;
+  virtual const Mat& jacobian(Shot slot) const = 0;
+  virtual double cost(Shot slot) const = 0;
+  /// Problem::terminal_symmetry, round_off_floor and rerun_failure of the accepted point;
+  /// Problem::stall_message.
+  virtual std::pair<Mat, Vec> terminal_symmetry() const = 0;
+  virtual double round_off_floor(const Vec& lambda) const = 0;
+  virtual std::string stall_message(double violation, int iteration, double floor, double cond) const = 0;
+  virtual std::string rerun_failure() const = 0;
+};
+
+/// A Problem (see newton_armijo_shooting) and its accepted evaluation `current` as Shots; the
+/// trial lives here.
+template <class Problem, class Evaluation, int N>
+class ShotsOf final : public Shots<N> {
+ public:
+  using typename Shots<N>::Vec;
+  using typename Shots<N>::Mat;
+  ShotsOf(Problem& problem, Evaluation& current) : problem_(problem), current_(current) {}
+  bool evaluate(const Vec& lambda, bool jacobian, Shot slot) override {
+    return problem_.evaluate(lambda, jacobian, at(slot));
+  }
+  void keep_trial() override { current_ = trial_; }
+  const Vec& residual(Shot slot) const override { return at(slot).residual; }
+  const Mat& jacobian(Shot slot) const override { return at(slot).jacobian; }
+  double cost(Shot slot) const override { return at(slot).cost; }
+  std::pair<Mat, Vec> terminal_symmetry() const override { return problem_.terminal_symmetry(current_); }
+  double round_off_floor(const Vec& lambda) const override { return problem_.round_off_floor(current_, lambda); }
+  std::string stall_message(double violation, int iteration, double floor, double cond) const override {
+    return problem_.stall_message(violation, iteration, floor, cond);
+  }
+  std::string rerun_failure() const override { return problem_.rerun_failure(current_); }
+
+ private:
+  Evaluation& at(Shot slot) { return slot == Shot::Current ? current_ : trial_; }
+  const Evaluation& at(Shot slot) const { return slot == Shot::Current ? current_ : trial_; }
+  Problem& problem_;
+  Evaluation& current_;
+  Evaluation trial_;
+};
+
 /// Newton homotopy (predictor-corrector path following; Allgower & Georg 1990, ch. 2): follows the
 /// zeros of H(lambda, tau) = r(lambda) - (1 - tau) r(lambda_start) from tau = 0 (lambda_start) to
 /// tau = 1, the path the damped Newton iteration approximates (its tangent is the Newton direction
@@ -68,34 +125,32 @@ struct NewtonArmijoOptions {
 /// doubles it. Every Jacobian evaluation counts as an outer iteration, every rejected point as an
 /// inner one. Returns whether tau = 1 was reached; `lambda`, `current` are the last point on the
 /// path (the end game is Newton-Armijo from there).
-template <class Problem, class Evaluation, int N>
-bool newton_homotopy(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
-                     Evaluation& current, ShootingSummary& S, double initial_step = 0.1, int max_corrector = 4,
-                     double corrector_tolerance = 0.1) {
+template <int N>
+bool follow_homotopy(Shots<N>& shots, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
+                     ShootingSummary& S, double initial_step, int max_corrector, double corrector_tolerance) {
   using Vec = Eigen::Matrix<double, N, 1>;
   using Clock = std::chrono::steady_clock;
   auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - o.start).count(); };
-  const Vec r_start = current.residual;
+  const Vec r_start = shots.residual(Shot::Current);
   double tau = 0.0, dtau = initial_step;
-  Evaluation point;
   while (tau < 1.0) {
     if (S.iterations >= o.max_iterations || dtau < 1e-6) return false;
     const double next = std::min(1.0, tau + dtau);
     IterationRecord rec;
     rec.iteration = S.iterations;
-    rec.violation = current.residual.norm();
-    rec.cost = current.cost;
-    rec.cond_sensitivity = rec.cond_inverted = condition_number(current.jacobian);
-    Vec candidate = lambda - (next - tau) * current.jacobian.partialPivLu().solve(r_start);
+    rec.violation = shots.residual(Shot::Current).norm();
+    rec.cost = shots.cost(Shot::Current);
+    rec.cond_sensitivity = rec.cond_inverted = condition_number(shots.jacobian(Shot::Current));
+    Vec candidate = lambda - (next - tau) * shots.jacobian(Shot::Current).partialPivLu().solve(r_start);
     rec.step_norm = (candidate - lambda).norm();
     bool ok = false;
     int corrector = 0;
     double previous = std::numeric_limits<double>::infinity();
     for (; corrector <= max_corrector; ++corrector) {
       ++S.sweeps;
-      if (!candidate.allFinite() || !problem.evaluate(candidate, true, point)) break;
+      if (!candidate.allFinite() || !shots.evaluate(candidate, true, Shot::Trial)) break;
       ++S.iterations;
-      const Vec H = point.residual - (1.0 - next) * r_start;
+      const Vec H = shots.residual(Shot::Trial) - (1.0 - next) * r_start;
       const double h = H.norm();
       if (h <= corrector_tolerance * r_start.norm() || (next == 1.0 && h <= o.tolerance)) {
         ok = true;
@@ -103,13 +158,13 @@ bool newton_homotopy(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::M
       }
       if (!(h <= 0.5 * previous)) break;
       previous = h;
-      candidate -= point.jacobian.partialPivLu().solve(H);
+      candidate -= shots.jacobian(Shot::Trial).partialPivLu().solve(H);
     }
     rec.sweeps = S.sweeps;
     rec.seconds = seconds();
     if (ok) {
       lambda = candidate;
-      current = point;
+      shots.keep_trial();
       tau = next;
       rec.step_length = next;  // tau reached
       rec.backtracks = corrector;
@@ -140,32 +195,31 @@ bool newton_homotopy(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::M
 /// residual-only sweep (predicted and corrected points) an inner one. Returns whether tau = 1 was
 /// reached with |r| <= corrector_tolerance |r_start|; `lambda`, `current` are the last path point
 /// (the end game is Newton-Armijo from there).
-template <class Problem, class Evaluation, int N>
-bool newton_continuation(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
-                         Evaluation& current, ShootingSummary& S, const ContinuationSettings& c = {}) {
+template <int N>
+bool follow_continuation(Shots<N>& shots, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
+                         ShootingSummary& S, const ContinuationSettings& c) {
   using Vec = Eigen::Matrix<double, N, 1>;
   using Mat = Eigen::Matrix<double, N, N>;
   using Clock = std::chrono::steady_clock;
   auto seconds = [&] { return std::chrono::duration<double>(Clock::now() - o.start).count(); };
-  const Vec r_start = current.residual;
+  const Vec r_start = shots.residual(Shot::Current);
   const double r_norm = r_start.norm();
   if (!(r_norm > 0.0)) return true;
   double tau = 0.0, dtau = c.initial_step;
-  Vec tangent = -current.jacobian.partialPivLu().solve(r_start);
+  Vec tangent = -shots.jacobian(Shot::Current).partialPivLu().solve(r_start);
   // The previous path point (tau, lambda, tangent) for the Hermite predictor.
   bool have_previous = false;
   double tau_prev = 0.0;
   Vec lambda_prev = lambda, tangent_prev = tangent;
-  Evaluation point;
   while (tau < 1.0) {
     if (S.iterations >= o.max_iterations || dtau < 1e-6 || !tangent.allFinite()) return false;
     const double next = std::min(1.0, tau + dtau);
     const double step = next - tau;
     IterationRecord rec;
     rec.iteration = S.iterations;
-    rec.violation = current.residual.norm();
-    rec.cost = current.cost;
-    rec.cond_sensitivity = rec.cond_inverted = condition_number(current.jacobian);
+    rec.violation = shots.residual(Shot::Current).norm();
+    rec.cost = shots.cost(Shot::Current);
+    rec.cond_sensitivity = rec.cond_inverted = condition_number(shots.jacobian(Shot::Current));
     Vec candidate;
     int order = 2;
     if (have_previous) {
@@ -180,7 +234,7 @@ bool newton_continuation(Problem& problem, const NewtonArmijoOptions<N>& o, Eige
       candidate = lambda + step * tangent;
     }
     // Broyden corrector from the path point's Jacobian.
-    Mat B = current.jacobian;
+    Mat B = shots.jacobian(Shot::Current);
     bool ok = false;
     double predicted_error = std::numeric_limits<double>::infinity();
     double previous = std::numeric_limits<double>::infinity();
@@ -190,8 +244,8 @@ bool newton_continuation(Problem& problem, const NewtonArmijoOptions<N>& o, Eige
       ++S.sweeps;
       ++S.inner_iterations;
       ++evaluations;
-      if (!candidate.allFinite() || !problem.evaluate(candidate, false, point)) break;
-      const Vec H = point.residual - (1.0 - next) * r_start;
+      if (!candidate.allFinite() || !shots.evaluate(candidate, false, Shot::Trial)) break;
+      const Vec H = shots.residual(Shot::Trial) - (1.0 - next) * r_start;
       const double h = H.norm();
       if (i == 0) predicted_error = h / r_norm;
       if (h <= c.corrector_tolerance * r_norm) {
@@ -211,7 +265,7 @@ bool newton_continuation(Problem& problem, const NewtonArmijoOptions<N>& o, Eige
                         : 0.25;
     if (ok) {
       ++S.sweeps;
-      if (!problem.evaluate(candidate, true, point)) ok = false;
+      if (!shots.evaluate(candidate, true, Shot::Trial)) ok = false;
     }
     if (ok) {
       ++S.iterations;
@@ -221,9 +275,9 @@ bool newton_continuation(Problem& problem, const NewtonArmijoOptions<N>& o, Eige
       tangent_prev = tangent;
       have_previous = true;
       lambda = candidate;
-      current = point;
+      shots.keep_trial();
       tau = next;
-      tangent = -current.jacobian.partialPivLu().solve(r_start);
+      tangent = -shots.jacobian(Shot::Current).partialPivLu().solve(r_start);
       rec.step_length = next;  // tau reached
       dtau = step * std::clamp(factor, 0.25, c.max_growth);
     } else {
@@ -252,9 +306,9 @@ bool newton_continuation(Problem& problem, const NewtonArmijoOptions<N>& o, Eige
 ///   std::string stall_message(double violation, int iteration, double floor, double cond).
 ///   std::string rerun_failure(const Evaluation& failed): the accepted point's re-run with its
 ///     Jacobian failed.
-template <class Problem, class Evaluation, int N>
-void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
-                            Evaluation& current, ShootingSummary& S) {
+template <int N>
+void newton_armijo_iterations(Shots<N>& shots, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
+                            ShootingSummary& S) {
   using Vec = Eigen::Matrix<double, N, 1>;
   using Mat = Eigen::Matrix<double, N, N>;
   using Clock = std::chrono::steady_clock;
@@ -265,14 +319,13 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
     return M;
   };
 
-  Evaluation trial;
-  double violation = current.residual.norm();
-  double merit_value = merit(current.residual);
+  double violation = shots.residual(Shot::Current).norm();
+  double merit_value = merit(shots.residual(Shot::Current));
   // Non-monotone reference (Grippo, Lampariello, Lucidi 1986): the largest merit of the last
   // nonmonotone_memory accepted points; memory 1 is the classical Armijo test.
   std::vector<double> recent_merits{merit_value};
   auto reference_merit = [&] { return *std::max_element(recent_merits.begin(), recent_merits.end()); };
-  S.cost = current.cost;
+  S.cost = shots.cost(Shot::Current);
   S.violation = violation;
   S.cond_min = S.cond_full_min = std::numeric_limits<double>::infinity();
   S.cond_max = S.cond_full_max = 0.0;
@@ -293,7 +346,7 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
     IterationRecord rec;
     rec.iteration = it;
     rec.violation = violation;
-    rec.cost = current.cost;
+    rec.cost = shots.cost(Shot::Current);
     if (violation <= o.tolerance) {
       S.status = ShootingStatus::Converged;
       if (polish_left < 0) polish_left = o.polish_iterations;
@@ -306,12 +359,12 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
       S.message = buf;
       break;
     }
-    const Mat jac = weighted(current.jacobian);
-    const Vec r = weighted(current.residual);
-    rec.cond_sensitivity = condition_number(current.jacobian);
+    const Mat jac = weighted(shots.jacobian(Shot::Current));
+    const Vec r = weighted(shots.residual(Shot::Current));
+    rec.cond_sensitivity = condition_number(shots.jacobian(Shot::Current));
     Vec direction;
     if (S.decomposition) {
-      const std::pair<Mat, Vec> terminal = problem.terminal_symmetry(current);
+      const std::pair<Mat, Vec> terminal = shots.terminal_symmetry();
       const Mat D = weighted(terminal.first);
       const Vec u_g = D.transpose().partialPivLu().solve(terminal.second);
       const Eigen::HouseholderQR<Vec> qr(u_g);
@@ -369,9 +422,9 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
         if (b > 0) ++S.inner_iterations;
         rec.backtracks = b;
         double rho = -1.0;
-        if (d.allFinite() && problem.evaluate(candidate, false, trial)) {
+        if (d.allFinite() && shots.evaluate(candidate, false, Shot::Trial)) {
           const double predicted = 0.5 * d.dot(lm_mu * Dg.cwiseProduct(d) - g);
-          const Vec rt = weighted(trial.residual);
+          const Vec rt = weighted(shots.residual(Shot::Trial));
           const double actual = 0.5 * (r.squaredNorm() - rt.squaredNorm());
           rho = predicted > 0.0 ? actual / predicted : -1.0;
         }
@@ -391,9 +444,9 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
       ++S.sweeps;
       if (b > 0) ++S.inner_iterations;
       rec.backtracks = b;
-      if (problem.evaluate(candidate, false, trial)) {
-        const bool decrease = polishing ? trial.residual.norm() < violation
-                                        : merit(trial.residual) <= (1.0 - o.armijo * t) * reference_merit();
+      if (shots.evaluate(candidate, false, Shot::Trial)) {
+        const bool decrease = polishing ? shots.residual(Shot::Trial).norm() < violation
+                                        : merit(shots.residual(Shot::Trial)) <= (1.0 - o.armijo * t) * reference_merit();
         if (decrease) {
           lambda = candidate;
           accepted = true;
@@ -408,10 +461,10 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
       rec.seconds = seconds();
       S.history.push_back(rec);
       if (polishing) break;  // at the round-off floor: converged stays
-      const double floor = problem.round_off_floor(current, lambda);
+      const double floor = shots.round_off_floor(lambda);
       if (violation <= 10.0 * floor) {
         S.status = ShootingStatus::Stalled;
-        S.message = problem.stall_message(violation, it, floor, rec.cond_inverted);
+        S.message = shots.stall_message(violation, it, floor, rec.cond_inverted);
       } else {
         S.status = ShootingStatus::LineSearchFailed;
         char buf[400];
@@ -428,15 +481,15 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
     // Re-run the accepted point with its Jacobian for the next Newton step.
     ++S.sweeps;
     rec.sweeps = S.sweeps;
-    if (!problem.evaluate(lambda, true, current)) {
+    if (!shots.evaluate(lambda, true, Shot::Current)) {
       S.status = ShootingStatus::SweepFailed;
-      S.message = problem.rerun_failure(current);
+      S.message = shots.rerun_failure();
       rec.seconds = seconds();
       S.history.push_back(rec);
       break;
     }
-    violation = current.residual.norm();
-    merit_value = merit(current.residual);
+    violation = shots.residual(Shot::Current).norm();
+    merit_value = merit(shots.residual(Shot::Current));
     recent_merits.push_back(merit_value);
     if (static_cast<int>(recent_merits.size()) > o.nonmonotone_memory) recent_merits.erase(recent_merits.begin());
     ++S.iterations;
@@ -444,13 +497,50 @@ void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, E
     rec.seconds = seconds();
     S.history.push_back(rec);
   }
-  S.cost = current.cost;
+  S.cost = shots.cost(Shot::Current);
   S.violation = violation;
-  S.residual = current.residual;
+  S.residual = shots.residual(Shot::Current);
   S.multiplier = lambda;
   if (S.cond_min > S.cond_max) S.cond_min = S.cond_max = 0.0;
   if (S.cond_full_min > S.cond_full_max) S.cond_full_min = S.cond_full_max = 0.0;
   S.wall_seconds = seconds();
 }
+
+// The Problem-facing entry points: each adapts the Problem once and runs the iterations above.
+
+template <class Problem, class Evaluation, int N>
+bool newton_homotopy(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
+                     Evaluation& current, ShootingSummary& S, double initial_step = 0.1, int max_corrector = 4,
+                     double corrector_tolerance = 0.1) {
+  ShotsOf<Problem, Evaluation, N> shots(problem, current);
+  return follow_homotopy(shots, o, lambda, S, initial_step, max_corrector, corrector_tolerance);
+}
+
+template <class Problem, class Evaluation, int N>
+bool newton_continuation(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
+                         Evaluation& current, ShootingSummary& S, const ContinuationSettings& c = {}) {
+  ShotsOf<Problem, Evaluation, N> shots(problem, current);
+  return follow_continuation(shots, o, lambda, S, c);
+}
+
+template <class Problem, class Evaluation, int N>
+void newton_armijo_shooting(Problem& problem, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
+                            Evaluation& current, ShootingSummary& S) {
+  ShotsOf<Problem, Evaluation, N> shots(problem, current);
+  newton_armijo_iterations(shots, o, lambda, S);
+}
+
+// Compiled once in newton_armijo.cpp for the multiplier sizes of the library's problems (6: the
+// free body and the pendulum, discrete and continuous; 12: the dumbbell).
+#define LGVI_NEWTON_ITERATIONS(KEYWORD, N)                                                                      \
+  KEYWORD template bool follow_homotopy<N>(Shots<N>&, const NewtonArmijoOptions<N>&, Eigen::Matrix<double, N, 1>&, \
+                                           ShootingSummary&, double, int, double);                             \
+  KEYWORD template bool follow_continuation<N>(Shots<N>&, const NewtonArmijoOptions<N>&,                        \
+                                               Eigen::Matrix<double, N, 1>&, ShootingSummary&,                  \
+                                               const ContinuationSettings&);                                    \
+  KEYWORD template void newton_armijo_iterations<N>(Shots<N>&, const NewtonArmijoOptions<N>&,                   \
+                                                    Eigen::Matrix<double, N, 1>&, ShootingSummary&);
+LGVI_NEWTON_ITERATIONS(extern, 6)
+LGVI_NEWTON_ITERATIONS(extern, 12)
 
 }  // namespace lgvi::ocp
