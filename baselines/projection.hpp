@@ -85,7 +85,8 @@ struct ChartConstraints<EulerChart> {
   static void targets(double*) {}
 };
 
-/// Most entries of a model state the projection takes (the connected bodies' matrix model has 26).
+/// Most entries of a model state the projection takes (the largest library model, the connected
+/// bodies' matrix model, has 24).
 inline constexpr int kMaxProjectionDim = 32;
 
 /// The constraints g as a plain callable: `evaluate(context, y, g)` writes the run's m values at
