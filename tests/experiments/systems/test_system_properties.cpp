@@ -131,7 +131,7 @@ TYPED_TEST(SystemProperties, ObservedOrderOfBothForms) {
     double d[levels - 1];
     for (int j = 0; j + 1 < levels; ++j) d[j] = experiments::state_distance(probe.model, finals[j], finals[j + 1]);
     const double nominal = form == LgviForm::Symmetric ? 2.0 : Test::B::printed_order(Test::model(probe));
-    const double p = observed_order(d + levels - 4);  // over h0/32, h0/64, h0/128
+    const double p = observed_order(d + (levels - 4));  // over h0/32, h0/64, h0/128
     std::cout << "[ measured ] " << TypeParam::scene() << " " << to_string(form) << ": N0 = " << n0
               << ", differences " << d[0] << " .. " << d[levels - 2] << ", order over h0..h0/4 " << observed_order(d)
               << ", over h0/32..h0/128 " << p << "\n";
