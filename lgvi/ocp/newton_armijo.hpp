@@ -308,7 +308,7 @@ bool follow_continuation(Shots<N>& shots, const NewtonArmijoOptions<N>& o, Eigen
 ///     Jacobian failed.
 template <int N>
 void newton_armijo_iterations(Shots<N>& shots, const NewtonArmijoOptions<N>& o, Eigen::Matrix<double, N, 1>& lambda,
-                            ShootingSummary& S) {
+                              ShootingSummary& S) {
   using Vec = Eigen::Matrix<double, N, 1>;
   using Mat = Eigen::Matrix<double, N, N>;
   using Clock = std::chrono::steady_clock;
@@ -445,8 +445,9 @@ void newton_armijo_iterations(Shots<N>& shots, const NewtonArmijoOptions<N>& o, 
       if (b > 0) ++S.inner_iterations;
       rec.backtracks = b;
       if (shots.evaluate(candidate, false, Shot::Trial)) {
-        const bool decrease = polishing ? shots.residual(Shot::Trial).norm() < violation
-                                        : merit(shots.residual(Shot::Trial)) <= (1.0 - o.armijo * t) * reference_merit();
+        const Vec& rt = shots.residual(Shot::Trial);
+        const bool decrease =
+            polishing ? rt.norm() < violation : merit(rt) <= (1.0 - o.armijo * t) * reference_merit();
         if (decrease) {
           lambda = candidate;
           accepted = true;
