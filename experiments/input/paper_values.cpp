@@ -30,6 +30,9 @@ PaperExample example(const TomlReader& r, const toml::table& table, const std::s
   PaperExample e;
   e.key = key;
   e.section = section;
+  const toml::node* system = table.at_path(key + ".system").node();
+  if (system == nullptr) r.fail(key + ".system", "is required");
+  e.system = r.string(*system, key + ".system");
   e.cost = required(r, table, key + ".cost");
   e.terminal_violation = required(r, table, key + ".terminal_violation");
   e.outer_iterations_approx = optional_number(r, table, key + ".outer_iterations_approx");
@@ -66,10 +69,9 @@ PaperValues parse() {
 }  // namespace
 
 const PaperExample& PaperValues::example(const std::string& system) const {
-  if (system == "pendulum") return pendulum;
-  if (system == "dumbbell") return dumbbell;
-  if (system == "cart-pendulum") return cart_pendulum;
-  if (system == "connected-bodies") return connected_bodies;
+  for (const PaperExample* e : {&dumbbell, &pendulum, &cart_pendulum, &connected_bodies}) {
+    if (e->system == system) return *e;
+  }
   throw InvalidInput("system", "the paper has no optimal control example for '" + system + "'");
 }
 

@@ -13,6 +13,7 @@ namespace lgvi::experiments {
 struct PaperExample {
   std::string key;      ///< table name in paper_values.toml, e.g. "pendulum_reorientation"
   std::string section;  ///< "3.2"
+  std::string system;   ///< the scene system it is an example of, e.g. "pendulum"
   double cost = 0.0;
   double terminal_violation = 0.0;
   std::optional<double> outer_iterations_approx;  ///< read off the paper's convergence plot
@@ -31,8 +32,8 @@ struct PaperValues {
   double decomposed_condition_max = 0.0;
   double undecomposed_condition = 0.0;
 
-  /// The example of an ocp system name ("pendulum", "dumbbell", "cart-pendulum",
-  /// "connected-bodies"). Throws InvalidInput("system", ...) for another name.
+  /// The example whose `system` (paper_values.toml) is the scene system `system` ("pendulum",
+  /// "dumbbell", "cart-pendulum", "connected-bodies"). Throws InvalidInput("system", ...) for another.
   const PaperExample& example(const std::string& system) const;
   /// The example whose table in paper_values.toml is `key` ("pendulum_reorientation"), or null.
   const PaperExample* find(const std::string& key) const;

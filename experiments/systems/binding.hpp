@@ -1,9 +1,9 @@
 // System bindings: what the harness knows about each system, in one place per system
 // (experiments/systems/<system>.hpp specializes SystemBinding<SceneModel>). The recorder, the
 // methods and the suites consult the binding of the scene's model (visit_binding) instead of
-// branching on the system. A new system: its scene model (scene.hpp), its binding file, one
-// line in system_bindings.hpp, and its scene reader (scene.cpp). A binding sees only its own
-// system's state record (M::State); the recorder's Sample holds one of them.
+// branching on the system. A new system: its binding file (its scene model, state record, scene
+// tables' reader and the rest below) and its line in the list, systems.hpp. A binding sees only
+// its own system's state record (M::State); the recorder's Sample holds one of them.
 #pragma once
 
 #include <algorithm>
