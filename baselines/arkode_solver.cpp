@@ -264,8 +264,17 @@ Stats run_arkode(Run& run, std::vector<double>& y, ArkodeModule module) {
          setup(ARKStepSetStopTime(ark.mem, t_end), "ARKStepSetStopTime");
   }
   if (ok && run.settings.fixed_step_probe) {  // order measurements: no error control
+    // At a fixed step a stage whose Newton iteration fails its convergence test cannot be retried
+    // with a shorter step: the run stops (ARK_CONV_FAILURE). The probe therefore gives the
+    // implicit stages a fresh Jacobian on every step and up to kProbeNewtonIterations iterations
+    // (ARKODE's defaults, a Jacobian kept for 20 steps and 3 iterations, suit the adaptive runs,
+    // which shrink the step instead: with them the first step of h = 0.1 on the free body fails).
+    // The stages then converge to the nonlinear tolerance set by rtol, as in an adaptive run.
+    constexpr int kProbeNewtonIterations = 10;
     ok = ark.erk() ? setup(ERKStepSetFixedStep(ark.mem, *run.settings.fixed_step_probe), "ERKStepSetFixedStep")
-                   : setup(ARKStepSetFixedStep(ark.mem, *run.settings.fixed_step_probe), "ARKStepSetFixedStep");
+                   : setup(ARKStepSetFixedStep(ark.mem, *run.settings.fixed_step_probe), "ARKStepSetFixedStep") &&
+                         setup(ARKStepSetLSetupFrequency(ark.mem, 1), "ARKStepSetLSetupFrequency") &&
+                         setup(ARKStepSetMaxNonlinIters(ark.mem, kProbeNewtonIterations), "ARKStepSetMaxNonlinIters");
   }
   if (ok && run.ode.has_singular_set()) {
     int direction = -1;  // g decreases through 0 when |cos theta| falls to the threshold
