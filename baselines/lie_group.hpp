@@ -89,7 +89,7 @@ Increment<Mech> vector_field(const Mech& mech, double t, const MechanicsState<Me
 /// out = y . xi (out may be y).
 template <Mechanics Mech>
 void act(const MechanicsState<Mech>& y, const Increment<Mech>& xi, MechanicsState<Mech>& out) {
-  for (std::size_t i = 0; i < xi.theta.size(); ++i) out.config.R[i] = y.config.R[i] * so3::exp(xi.theta[i]);
+  for (std::size_t i = 0; i < xi.theta.size(); ++i) out.config.R[i] = so3::right_multiply_exp(y.config.R[i], xi.theta[i]);
   out.config.x = y.config.x + xi.x;
   out.w = y.w + xi.w;
 }
@@ -97,7 +97,7 @@ void act(const MechanicsState<Mech>& y, const Increment<Mech>& xi, MechanicsStat
 /// y <- y . (s f): one exponential per body (Crouch-Grossman and commutator-free products).
 template <Mechanics Mech>
 void act_scaled(MechanicsState<Mech>& y, double s, const Increment<Mech>& f) {
-  for (std::size_t i = 0; i < f.theta.size(); ++i) y.config.R[i] = y.config.R[i] * so3::exp(s * f.theta[i]);
+  for (std::size_t i = 0; i < f.theta.size(); ++i) y.config.R[i] = so3::right_multiply_exp(y.config.R[i], s * f.theta[i]);
   y.config.x += s * f.x;
   y.w += s * f.w;
 }

@@ -249,11 +249,12 @@ struct ExponentialChart {
     V3 H, Jf, fxJf;
     double t, a, b, h_per_g, size_h;
   };
-  /// so3::rodrigues from one sin/cos pair of t/2 (one sincos call instead of two sin calls):
-  /// with q = sin(t/2) / (t/2), a = sin(t)/t = q cos(t/2) and b = (1 - cos t)/t^2 = q^2 / 2, the
-  /// half-angle form of so3::rodrigues (no cancellation). a carries ~1 ulp more than sin(t)/t,
-  /// below G's evaluation floor (8 eps of its term size, rotation_update test). Same Taylor
-  /// branch below t = 1e-4.
+  /// The coefficients of so3::rodrigues in its half-angle form (one sin/cos pair of t/2: with
+  /// q = sin(t/2) / (t/2), a = q cos(t/2), b = q^2 / 2; no cancellation) down to t = 1e-4, and
+  /// so3::rodrigues (its series) below. so3::rodrigues switches to its series below t = 1/2; the
+  /// rotation update keeps the sin/cos form there, so the LGVI's exponential chart steps as
+  /// measured and accepted (the two agree to a few ulp, below G's evaluation floor of 8 eps of
+  /// its term size, rotation_update test).
   static so3::RodriguesCoefficients rodrigues(double t) {
     if (t < 1e-4) return so3::rodrigues(t);
     const double half = 0.5 * t;

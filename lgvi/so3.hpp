@@ -46,36 +46,70 @@ inline Vec3 vee(const Mat3& X) {
 }
 
 /// Coefficients of Rodrigues' formula exp(hat w) = I + a hat(w) + b hat(w)^2, with
-/// a = sin(t)/t, b = (1 - cos t)/t^2, t = |w|. Taylor branch for t < 1e-4 (the next term is
-/// t^6/5040 < 1e-27).
-/// b is evaluated in the half-angle form 2 sin^2(t/2) / t^2: 1 - cos t cancels to a relative
-/// error eps / t^2 (1e-10 at t = 1e-3). In exp that is harmless (b hat(w)^2 = O(t^2)), but the
-/// rotation update's G = a J f + b f x J f - h p has size ~|J f| = O(t), where the cancellation
-/// leaves an error ~eps ||J||, i.e. eps / t relative: its exponential chart stalled above the
-/// convergence tolerance for t in ~(1e-4, 1e-2).
+/// a = sin(t)/t, b = (1 - cos t)/t^2, t = |w|, from the squared angle t^2.
+/// Series branch for t < 1/2 (t^2 < 1/4), the Taylor series in t^2 through t^12:
+///     a = sum_k (-t^2)^k / (2k+1)!,   b = sum_k (-t^2)^k / (2k+2)!,   k = 0..6;
+/// the first omitted terms are t^14/15! <= 4.7e-17 and t^14/16! <= 2.9e-18 (relative to a >= 0.95,
+/// b >= 0.48: below eps/2). No square root, no sine, no division: the step of a Lie group method
+/// takes one exponential per stage, so these dominated its cost (tests/lgvi/test_so3.cpp checks
+/// both branches against long double to a few eps).
+/// Above, the half-angle form from one sin/cos pair of t/2: with q = sin(t/2) / (t/2),
+/// a = q cos(t/2) and b = q^2 / 2. b never forms 1 - cos t, which cancels to a relative error
+/// eps / t^2. In exp that would be harmless (b hat(w)^2 = O(t^2)), but the rotation update's
+/// G = a J f + b f x J f - h p has size ~|J f| = O(t), where the cancellation leaves an error
+/// ~eps ||J||, i.e. eps / t relative: its exponential chart stalled above the convergence
+/// tolerance for t in ~(1e-4, 1e-2).
 struct RodriguesCoefficients {
   double a;
   double b;
 };
-inline RodriguesCoefficients rodrigues(double theta) {
-  const double t2 = theta * theta;
-  if (theta < 1e-4) {
-    return {1.0 - t2 / 6.0 + t2 * t2 / 120.0, 0.5 - t2 / 24.0 + t2 * t2 / 720.0};
+inline RodriguesCoefficients rodrigues_of_squared_angle(double t2) {
+  if (t2 < 0.25) {
+    // Estrin's scheme: p(x) = (c0 + c1 x) + x^2 (c2 + c3 x) + x^4 ((c4 + c5 x) + x^2 c6), three
+    // levels of products instead of Horner's six (the latency of a step's exponential).
+    const double x = t2, x2 = x * x, x4 = x2 * x2;
+    // The coefficients are folded at compile time (a division by a constant is not).
+    constexpr double a1 = -1.0 / 6.0, a2 = 1.0 / 120.0, a3 = -1.0 / 5040.0, a4 = 1.0 / 362880.0,
+                     a5 = -1.0 / 39916800.0, a6 = 1.0 / 6227020800.0;
+    constexpr double b1 = -1.0 / 24.0, b2 = 1.0 / 720.0, b3 = -1.0 / 40320.0, b4 = 1.0 / 3628800.0,
+                     b5 = -1.0 / 479001600.0, b6 = 1.0 / 87178291200.0;
+    const double a = (1.0 + a1 * x) + x2 * (a2 + a3 * x) + x4 * ((a4 + a5 * x) + a6 * x2);
+    const double b = (0.5 + b1 * x) + x2 * (b2 + b3 * x) + x4 * ((b4 + b5 * x) + b6 * x2);
+    return {a, b};
   }
-  const double half_sinc = std::sin(0.5 * theta) / (0.5 * theta);
-  return {std::sin(theta) / theta, 0.5 * half_sinc * half_sinc};
+  const double half = 0.5 * std::sqrt(t2);
+  const double q = std::sin(half) / half;
+  return {q * std::cos(half), 0.5 * q * q};
 }
+/// The same coefficients from the angle t = |w| >= 0.
+inline RodriguesCoefficients rodrigues(double theta) { return rodrigues_of_squared_angle(theta * theta); }
 
 /// exp: so(3) -> SO(3) (Rodrigues).
 inline Mat3 exp(const Vec3& w) {
-  const auto [a, b] = rodrigues(w.norm());
+  const auto [a, b] = rodrigues_of_squared_angle(w.squaredNorm());
   return Mat3::Identity() + a * hat(w) + b * hat_squared(w);
+}
+
+/// R exp(hat w) = R + a M + b M hat(w), M = R hat(w), without forming exp(hat w): row i of
+/// M is r_i x w (r_i the i-th row of R; r^T hat(w) = (r x w)^T), and of M hat(w) is m_i x w.
+/// The two sets of cross products do not wait for the coefficients a, b, so a step that moves
+/// an attitude by an exponential (the Lie group methods' updates) overlaps them with the series;
+/// R exp(hat w) formed as a product of matrices agrees to a few ulp.
+inline Mat3 right_multiply_exp(const Mat3& R, const Vec3& w) {
+  const auto [a, b] = rodrigues_of_squared_angle(w.squaredNorm());
+  Mat3 out;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 r = R.row(i).transpose();
+    const Vec3 m = r.cross(w);
+    out.row(i) = (r + a * m + b * m.cross(w)).transpose();
+  }
+  return out;
 }
 
 /// exp(hat w) - I = a hat(w) + b hat(w)^2, accurate relative to its own size (no cancellation
 /// against I): the form to use when a small rotation's deviation from I enters a difference.
 inline Mat3 exp_minus_identity(const Vec3& w) {
-  const auto [a, b] = rodrigues(w.norm());
+  const auto [a, b] = rodrigues_of_squared_angle(w.squaredNorm());
   return a * hat(w) + b * hat_squared(w);
 }
 

@@ -139,6 +139,17 @@ TEST_P(So3, ExpMatchesMatrixExponential) {
   EXPECT_LE((so3::exp(w) - reference_exp(w)).norm(), kMatTol);
 }
 
+// R exp(hat w) without forming exp(hat w) (so3::right_multiply_exp, the Lie group methods'
+// update) against the product R * exp(w), for a rotation R drawn per case: both are
+// R + a R hat(w) + b R hat(w)^2, each entry a sum of ~10 rounded products of O(1) terms in
+// either form, so they differ by at most ~20 u = 10 eps: within kEntryTol (16 eps).
+TEST_P(So3, RightMultiplyExpEqualsTheProductWithExp) {
+  auto rng = test::make_rng(/*salt=*/304);
+  const Mat3 R = so3::random_rotation(rng);
+  const Vec3 w = GetParam().w;
+  EXPECT_LE((so3::right_multiply_exp(R, w) - R * so3::exp(w)).cwiseAbs().maxCoeff(), kEntryTol);
+}
+
 // log(exp(w)) = w for |w| < pi; at exactly pi the principal log is +-w.
 TEST_P(So3, LogInvertsExp) {
   const Vec3 w = GetParam().w;
@@ -312,8 +323,8 @@ class So3Branch : public testing::TestWithParam<Threshold> {};
 
 // Rodrigues coefficients a = sin t / t and b = (1 - cos t)/t^2. Reference: long double
 // a = sinl(t)/t, b = (1/2) sinc(t/2)^2 (no cancellation). Both branches must be accurate to a
-// few eps (sin and a division: ~1 eps; b squares and halves: ~3 eps; kEntryTol = 16 eps, a <= 1,
-// b <= 1/2). A closed form (1 - cos t)/t^2 would cancel to eps/t^2 relative (2.2e-8 at 1e-4):
+// few eps (the series: Estrin's scheme, < 4 eps; sin and a division: ~1 eps; b squares and halves: ~3
+// eps; kEntryTol = 16 eps, a <= 1, b <= 1/2). A closed form (1 - cos t)/t^2 would cancel to eps/t^2 relative (2.2e-8 at 1e-4):
 // harmless in exp, but not in the rotation update's G (see so3::rodrigues), so it is excluded.
 TEST_P(So3Branch, RodriguesCoefficientsAreContinuous) {
   for (const double side : {-1.0, 1.0}) {
@@ -360,7 +371,7 @@ TEST_P(So3Branch, MatrixFunctionsAreContinuous) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Thresholds, So3Branch,
-                         testing::Values(Threshold{"rodrigues_and_log_1e4", 1e-4},
+                         testing::Values(Threshold{"log_1e4", 1e-4}, Threshold{"rodrigues_series_half", 0.5},
                                          Threshold{"jacobians_1e3", 1e-3},
                                          Threshold{"log_half_pi", M_PI / 2}),
                          [](const testing::TestParamInfo<Threshold>& i) { return i.param.name; });
@@ -398,6 +409,33 @@ TEST(So3Accuracy, ClosedFormsMatchLongDoubleOverAllAngles) {
   EXPECT_LE(worst_jri, kEntryTol);
   std::cout << "[ measured ] max entry error over the sweep (eps): exp " << worst_exp / test::kEps
             << ", Jr " << worst_jr / test::kEps << ", Jr^-1 " << worst_jri / test::kEps << "\n";
+}
+
+// Rodrigues coefficients, relative to long double, over both branches of so3::rodrigues (the
+// series in t^2 below t = 1/2, the half-angle sin/cos form above), t log-spaced over
+// [1e-8, pi]. Bounds: Estrin's scheme over 7 coefficients of an alternating series in
+// x = t^2 <= 1/4 (four levels of rounded operations on the way to the sum) errs by at most
+// ~4 u sum |c_k| x^k / |p(x)| <= 4 u sinh(t)/sin(t) < 5 u, plus u for the rounded coefficients;
+// the half-angle form by ~4 u (a: sin, a division, cos and a product) and ~5 u (b: q^2 / 2).
+// Both within 7 eps = 14 u, with room for the series' truncation (t^14/15!, below eps/2).
+TEST(So3Accuracy, RodriguesCoefficientsAreRelativelyAccurateOnBothBranches) {
+  const double tolerance = 7.0 * test::kEps;
+  double worst_series = 0.0, worst_half_angle = 0.0;
+  const int steps = 4000;
+  for (int k = 0; k <= steps; ++k) {
+    const double t = std::exp(std::log(1e-8) + (std::log(M_PI) - std::log(1e-8)) * k / steps);
+    const auto [a, b] = so3::rodrigues(t);
+    const long double tl = t;
+    const long double a_ref = ld_sinc(tl);
+    const long double b_ref = 0.5L * ld_sinc(tl / 2) * ld_sinc(tl / 2);
+    const double error = static_cast<double>(
+        std::max(std::abs((a - a_ref) / a_ref), std::abs((b - b_ref) / b_ref)));
+    (t < 0.5 ? worst_series : worst_half_angle) = std::max(t < 0.5 ? worst_series : worst_half_angle, error);
+  }
+  EXPECT_LE(worst_series, tolerance);
+  EXPECT_LE(worst_half_angle, tolerance);
+  std::cout << "[ measured ] max relative error of a, b (eps): series " << worst_series / test::kEps
+            << ", half-angle " << worst_half_angle / test::kEps << "\n";
 }
 
 // --- Random rotations ----------------------------------------------------------------------
