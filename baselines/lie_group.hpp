@@ -86,18 +86,37 @@ Increment<Mech> vector_field(const Mech& mech, double t, const MechanicsState<Me
   return f;
 }
 
-/// out = y . xi (out may be y).
+/// Whether the field F(t, y) reads y's attitudes: false only where the mechanics says so
+/// (attitude_unread(): a free body without control, F = (Omega, J^{-1}(J Omega x Omega))). Where
+/// it does not, a stage's attitudes are not formed (their exponentials skipped): F at the stage
+/// is the same, and so is the step, to the bit; the step's update always forms them.
 template <Mechanics Mech>
-void act(const MechanicsState<Mech>& y, const Increment<Mech>& xi, MechanicsState<Mech>& out) {
-  for (std::size_t i = 0; i < xi.theta.size(); ++i) out.config.R[i] = so3::right_multiply_exp(y.config.R[i], xi.theta[i]);
+bool field_reads_attitudes(const Mech& mech) {
+  if constexpr (requires { { mech.attitude_unread() } -> std::convertible_to<bool>; }) {
+    return !mech.attitude_unread();
+  } else {
+    return true;
+  }
+}
+
+/// out = y . xi (out may be y); the attitudes only when `attitudes` (a stage whose field reads
+/// none keeps y's).
+template <Mechanics Mech>
+void act(const MechanicsState<Mech>& y, const Increment<Mech>& xi, MechanicsState<Mech>& out, bool attitudes = true) {
+  for (std::size_t i = 0; i < xi.theta.size(); ++i) {
+    out.config.R[i] = attitudes ? so3::right_multiply_exp(y.config.R[i], xi.theta[i]) : y.config.R[i];
+  }
   out.config.x = y.config.x + xi.x;
   out.w = y.w + xi.w;
 }
 
-/// y <- y . (s f): one exponential per body (Crouch-Grossman and commutator-free products).
+/// y <- y . (s f): one exponential per body (Crouch-Grossman and commutator-free products); the
+/// attitudes only when `attitudes`, as for act.
 template <Mechanics Mech>
-void act_scaled(MechanicsState<Mech>& y, double s, const Increment<Mech>& f) {
-  for (std::size_t i = 0; i < f.theta.size(); ++i) y.config.R[i] = so3::right_multiply_exp(y.config.R[i], s * f.theta[i]);
+void act_scaled(MechanicsState<Mech>& y, double s, const Increment<Mech>& f, bool attitudes = true) {
+  if (attitudes) {
+    for (std::size_t i = 0; i < f.theta.size(); ++i) y.config.R[i] = so3::right_multiply_exp(y.config.R[i], s * f.theta[i]);
+  }
   y.config.x += s * f.x;
   y.w += s * f.w;
 }
@@ -232,6 +251,7 @@ class RkmkFlow {
   StepSummary step(const State& in, double h, double t_k, double /*t_k1*/, State& out) const {
     constexpr int s = Tableau::stages;
     std::array<Increment<Mech>, s> K;
+    const bool attitudes = field_reads_attitudes(mech_);
     State stage = in;
     for (int i = 0; i < s; ++i) {
       if (i == 0) {
@@ -242,7 +262,7 @@ class RkmkFlow {
       for (int j = 0; j < i; ++j) {
         if (Tableau::a[i][j] != 0.0) xi.add_scaled(h * Tableau::a[i][j], K[j]);
       }
-      act(in, xi, stage);
+      act(in, xi, stage, attitudes);
       K[i] = vector_field(mech_, t_k + Tableau::c[i] * h, stage);
       dexp_inverse(xi, K[i]);
     }
@@ -271,10 +291,11 @@ class CrouchGrossmanFlow {
   StepSummary step(const State& in, double h, double t_k, double /*t_k1*/, State& out) const {
     constexpr int s = Tableau::stages;
     std::array<Increment<Mech>, s> F;
+    const bool attitudes = field_reads_attitudes(mech_);
     for (int i = 0; i < s; ++i) {
       State stage = in;
       for (int j = 0; j < i; ++j) {
-        if (Tableau::a[i][j] != 0.0) act_scaled(stage, h * Tableau::a[i][j], F[j]);
+        if (Tableau::a[i][j] != 0.0) act_scaled(stage, h * Tableau::a[i][j], F[j], attitudes);
       }
       F[i] = vector_field(mech_, t_k + Tableau::c[i] * h, stage);
     }
@@ -308,18 +329,19 @@ class CommutatorFree4Flow {
   explicit CommutatorFree4Flow(const Mech& mech) : mech_(mech) {}
 
   StepSummary step(const State& in, double h, double t_k, double /*t_k1*/, State& out) const {
+    const bool attitudes = field_reads_attitudes(mech_);
     const Increment<Mech> F1 = vector_field(mech_, t_k, in);
     State Y2 = in;
-    act_scaled(Y2, 0.5 * h, F1);
+    act_scaled(Y2, 0.5 * h, F1, attitudes);
     const Increment<Mech> F2 = vector_field(mech_, t_k + 0.5 * h, Y2);
     State Y3 = in;
-    act_scaled(Y3, 0.5 * h, F2);
+    act_scaled(Y3, 0.5 * h, F2, attitudes);
     const Increment<Mech> F3 = vector_field(mech_, t_k + 0.5 * h, Y3);
     Increment<Mech> xi = Increment<Mech>::zero();
     xi.add_scaled(h, F3);
     xi.add_scaled(-0.5 * h, F1);
     State Y4 = Y2;
-    act_scaled(Y4, 1.0, xi);
+    act_scaled(Y4, 1.0, xi, attitudes);
     const Increment<Mech> F4 = vector_field(mech_, t_k + h, Y4);
     Increment<Mech> first = Increment<Mech>::zero();
     first.add_scaled(h / 4.0, F1);

@@ -148,6 +148,11 @@ class AttitudeMechanics {
   }
   bool separable() const { return true; }
   bool time_dependent() const { return static_cast<bool>(control_); }
+  /// True when neither rates() nor acceleration() reads the attitude: a system without a
+  /// potential (S::has_potential false: its moment is zero, the count the LGVI reports as no
+  /// potential evaluation) and no control. The Lie group methods then form no stage attitudes
+  /// (baselines/lie_group.hpp, field_reads_attitudes).
+  bool attitude_unread() const { return !S::has_potential && !control_; }
   const S& system() const { return system_; }
 
   /// First integrals the projection of cvode-bdf-projected keeps (baselines/projection.hpp), from

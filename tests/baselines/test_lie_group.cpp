@@ -224,6 +224,45 @@ TEST(LieGroupGeometry, AttitudeStaysOnSO3For1e5Steps) {
   }
 }
 
+// The free body's field reads no attitude (AttitudeMechanics::attitude_unread), so its stages
+// form none (baselines/lie_group.hpp, field_reads_attitudes). The same mechanics told that its
+// field reads them forms every stage attitude: the steps must agree to the bit (the skipped
+// attitudes are never read), over 200 steps of each method.
+struct FreeMechFormingStageAttitudes : FreeMech {
+  using FreeMech::FreeMech;
+  bool attitude_unread() const { return false; }
+};
+
+template <template <class> class FlowOf>
+void expect_same_steps_with_and_without_stage_attitudes(const char* name) {
+  const FreeRigidBody body(free_J());
+  const FreeMech skipping(body);
+  const FreeMechFormingStageAttitudes forming(body);
+  ASSERT_FALSE(lg::field_reads_attitudes(skipping));
+  ASSERT_TRUE(lg::field_reads_attitudes(forming));
+  auto a = initial_state<FreeMech>(free_R0(), kFreeOmega0);
+  auto b = initial_state<FreeMechFormingStageAttitudes>(free_R0(), kFreeOmega0);
+  const FlowOf<FreeMech> fa(skipping);
+  const FlowOf<FreeMechFormingStageAttitudes> fb(forming);
+  const double h = 0.05;
+  for (int k = 0; k < 200; ++k) {
+    fa.step(a, h, k * h, (k + 1) * h, a);
+    fb.step(b, h, k * h, (k + 1) * h, b);
+  }
+  EXPECT_TRUE(a.config.R[0] == b.config.R[0]) << name;
+  EXPECT_TRUE(a.w == b.w) << name;
+}
+
+TEST(LieGroupGeometry, StagesWithoutAttitudesGiveTheSameSteps) {
+  expect_same_steps_with_and_without_stage_attitudes<Rkmk4>("rkmk4");
+  expect_same_steps_with_and_without_stage_attitudes<Rkmk2>("rkmk2");
+  expect_same_steps_with_and_without_stage_attitudes<Cg3>("cg3");
+  expect_same_steps_with_and_without_stage_attitudes<Cg4>("cg4");
+  expect_same_steps_with_and_without_stage_attitudes<Cf4>("cf4");
+  // The Lagrange top's gravity moment reads R: its stages form their attitudes.
+  EXPECT_TRUE(lg::field_reads_attitudes(TopMech(top())));
+}
+
 // A step allocates nothing (std::array and fixed-size Eigen only): the global operator new is not
 // called over 100 steps of each method on the Lagrange top.
 TEST(LieGroupGeometry, AStepAllocatesNothing) {
