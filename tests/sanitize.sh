@@ -5,9 +5,9 @@
 #     its own build directory (default build-asan), with Ninja; the three optimal control solver
 #     files at -O0 (LGVI_OCP_SOLVER_COMPILE_OPTIONS: half their compile time; the job runs them
 #     briefly);
-#  2. test_lgvi but its four long sweeps, test_experiments but its quick shooting suite, and CLI
-#     runs of every shipped scene, a baseline, a quick suite, two optimal control examples with
-#     few iterations, and the hostile scene files of tests/fuzz/regressions;
+#  2. test_lgvi but its four long sweeps, test_experiments but its quick shooting and soak
+#     suites, and CLI runs of every shipped scene, a baseline, a quick suite, two optimal control
+#     examples with few iterations, and the hostile scene files of tests/fuzz/regressions;
 #  3. a bounded libFuzzer run of the scene parser (tests/fuzz/fuzz_scene.cpp) from the shipped
 #     scenes and the regression inputs: FUZZ_RUNS executions (default 500000, ~50 s here) from a
 #     fixed seed (FUZZ_SEED, default 1), so that a run explores the same inputs in the same order
@@ -56,11 +56,12 @@ run_shards() {
 }
 run_shards test_lgvi --gtest_filter="-$long_sweeps"
 # Every test of test_experiments (the harness: scenes, studies, suites, resumed and merged runs,
-# the output writers, the CLI) but the quick shooting suite: it solves the optimal control
-# examples by continuation with the solvers at -O0 and runs for more than 7 minutes sanitized
-# (measured); the ocp CLI runs below take the same solvers through a few iterations. The rest
-# takes ~200 s of test time (the quick soak suite 70 s of it), ~2 minutes in two shards.
-run_shards test_experiments --gtest_filter="-OcpSuiteEndToEnd.QuickShooting*"
+# the output writers, the CLI) but two end-to-end suites: the quick shooting suite solves the
+# optimal control examples by continuation with the solvers at -O0 (more than 7 minutes
+# sanitized; the ocp CLI runs below take the same solvers through a few iterations), and the
+# quick soak suite steps every system 10^5 times (70 s sanitized, one shard's critical path; the
+# other suites' tests run the same steps, fewer of them). The rest: ~130 s of test time.
+run_shards test_experiments --gtest_filter="-OcpSuiteEndToEnd.QuickShooting*:SuiteEndToEnd.QuickSoak*"
 
 exe="$dir/lgvi-testbed"
 work=$(mktemp -d)
