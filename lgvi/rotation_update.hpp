@@ -256,10 +256,7 @@ struct ExponentialChart {
   /// measured and accepted (the two agree to a few ulp, below G's evaluation floor of 8 eps of
   /// its term size, rotation_update test).
   static so3::RodriguesCoefficients rodrigues(double t) {
-    if (t < 1e-4) return so3::rodrigues(t);
-    const double half = 0.5 * t;
-    const double q = std::sin(half) / half;
-    return {q * std::cos(half), 0.5 * q * q};
+    return t < 1e-4 ? so3::rodrigues(t) : so3::rodrigues_half_angle(t);
   }
   /// F = exp(hat f) = I + a hat(f) + b hat(f)^2 with the coefficients of the evaluation at f
   /// (those rotation_from recomputes).

@@ -63,6 +63,13 @@ struct RodriguesCoefficients {
   double a;
   double b;
 };
+/// The half-angle form alone, for t > 0 (the branch above the series; the rotation update's
+/// exponential chart uses it down to t = 1e-4).
+inline RodriguesCoefficients rodrigues_half_angle(double t) {
+  const double half = 0.5 * t;
+  const double q = std::sin(half) / half;
+  return {q * std::cos(half), 0.5 * q * q};
+}
 inline RodriguesCoefficients rodrigues_of_squared_angle(double t2) {
   if (t2 < 0.25) {
     // Estrin's scheme: p(x) = (c0 + c1 x) + x^2 (c2 + c3 x) + x^4 ((c4 + c5 x) + x^2 c6), three
@@ -77,9 +84,7 @@ inline RodriguesCoefficients rodrigues_of_squared_angle(double t2) {
     const double b = (0.5 + b1 * x) + x2 * (b2 + b3 * x) + x4 * ((b4 + b5 * x) + b6 * x2);
     return {a, b};
   }
-  const double half = 0.5 * std::sqrt(t2);
-  const double q = std::sin(half) / half;
-  return {q * std::cos(half), 0.5 * q * q};
+  return rodrigues_half_angle(std::sqrt(t2));
 }
 /// The same coefficients from the angle t = |w| >= 0.
 inline RodriguesCoefficients rodrigues(double theta) { return rodrigues_of_squared_angle(theta * theta); }

@@ -323,9 +323,10 @@ class So3Branch : public testing::TestWithParam<Threshold> {};
 
 // Rodrigues coefficients a = sin t / t and b = (1 - cos t)/t^2. Reference: long double
 // a = sinl(t)/t, b = (1/2) sinc(t/2)^2 (no cancellation). Both branches must be accurate to a
-// few eps (the series: Estrin's scheme, < 4 eps; sin and a division: ~1 eps; b squares and halves: ~3
-// eps; kEntryTol = 16 eps, a <= 1, b <= 1/2). A closed form (1 - cos t)/t^2 would cancel to eps/t^2 relative (2.2e-8 at 1e-4):
-// harmless in exp, but not in the rotation update's G (see so3::rodrigues), so it is excluded.
+// few eps (the series: Estrin's scheme, < 4 eps; sin and a division: ~1 eps; b squares and
+// halves: ~3 eps; kEntryTol = 16 eps, a <= 1, b <= 1/2). A closed form (1 - cos t)/t^2 would
+// cancel to eps/t^2 relative (2.2e-8 at 1e-4): harmless in exp, but not in the rotation update's
+// G (see so3::rodrigues), so it is excluded.
 TEST_P(So3Branch, RodriguesCoefficientsAreContinuous) {
   for (const double side : {-1.0, 1.0}) {
     const double t = GetParam().t * (1.0 + side * 1e-9);
@@ -430,7 +431,8 @@ TEST(So3Accuracy, RodriguesCoefficientsAreRelativelyAccurateOnBothBranches) {
     const long double b_ref = 0.5L * ld_sinc(tl / 2) * ld_sinc(tl / 2);
     const double error = static_cast<double>(
         std::max(std::abs((a - a_ref) / a_ref), std::abs((b - b_ref) / b_ref)));
-    (t < 0.5 ? worst_series : worst_half_angle) = std::max(t < 0.5 ? worst_series : worst_half_angle, error);
+    double& worst = t < 0.5 ? worst_series : worst_half_angle;
+    worst = std::max(worst, error);
   }
   EXPECT_LE(worst_series, tolerance);
   EXPECT_LE(worst_half_angle, tolerance);
