@@ -219,7 +219,10 @@ class ExactFreeFlow : public Splitting<Mech> {
     const Vec3 Pi = in.Pi_principal + (0.5 * h) * this->principal_moment(in.force);
     ExactState free;
     try {
-      free = FreeRigidBodyExact(principal_J_, in.R_principal, Pi.cwiseQuotient(this->frame_.moments)).state(h);
+      // The mechanics validated the inertia (a nonphysical one only where its scene asked).
+      free = FreeRigidBodyExact(principal_J_, in.R_principal, Pi.cwiseQuotient(this->frame_.moments),
+                                InertiaDomain::PositiveDefinite)
+                 .state(h);
     } catch (const InvalidInput&) {
       StepSummary failed;
       failed.ok = false;

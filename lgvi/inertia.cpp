@@ -16,7 +16,7 @@ void require_positive(double value, const std::string& field) {
   }
 }
 
-Inertia Inertia::from(const Mat3& J, const std::string& field) {
+Inertia Inertia::from(const Mat3& J, const std::string& field, InertiaDomain domain) {
   require_finite(J, field);
   const double scale = J.cwiseAbs().maxCoeff();
   if (scale == 0.0) throw InvalidInput(field, "is zero");
@@ -34,7 +34,8 @@ Inertia Inertia::from(const Mat3& J, const std::string& field) {
   // Triangle inequality on the principal moments: J_min + J_mid >= J_max, with a round-off
   // allowance of 64 eps * J_max so that an exactly flat body is accepted.
   const double slack = moments(0) + moments(1) - moments(2);
-  if (slack < -64.0 * std::numeric_limits<double>::epsilon() * moments(2)) {
+  const bool physical = slack >= -64.0 * std::numeric_limits<double>::epsilon() * moments(2);
+  if (!physical && domain == InertiaDomain::Physical) {
     std::ostringstream s;
     s << "violates the triangle inequality J1 + J2 >= J3 (principal moments " << moments(0)
       << ", " << moments(1) << ", " << moments(2) << ")";
@@ -44,6 +45,7 @@ Inertia Inertia::from(const Mat3& J, const std::string& field) {
   I.J = Js;
   I.Jd = 0.5 * Js.trace() * Mat3::Identity() - Js;
   I.J_inverse = Js.inverse();
+  I.physical = physical;
   return I;
 }
 

@@ -307,8 +307,14 @@ PYBIND11_MODULE(lgvi, m) {
           "The Cayley transform of the rotation-update parametrization (lgvi/so3.hpp).");
 
   py::class_<lgvi::FreeRigidBody>(m, "FreeRigidBody", "A free rigid body: no potential.")
-      .def(py::init([](const Array& inertia) { return lgvi::FreeRigidBody(inertia_matrix(inertia)); }),
-           py::arg("inertia"), "inertia: (3,) principal moments or a (3, 3) matrix [kg m^2]; validated.")
+      .def(py::init([](const Array& inertia, bool nonphysical_inertia) {
+             return lgvi::FreeRigidBody(inertia_matrix(inertia), nonphysical_inertia
+                                                                     ? lgvi::InertiaDomain::PositiveDefinite
+                                                                     : lgvi::InertiaDomain::Physical);
+           }),
+           py::arg("inertia"), py::arg("nonphysical_inertia") = false,
+           "inertia: (3,) principal moments or a (3, 3) matrix [kg m^2]; validated (symmetric positive definite, "
+           "and the triangle inequality unless nonphysical_inertia: the Euler equations of a test-set body).")
       .def_property_readonly("inertia", [](const lgvi::FreeRigidBody& b) { return to_array(b.inertia.J); })
       .def("energy",
            [](const lgvi::FreeRigidBody& b, const Array& R, const Array& Omega) {

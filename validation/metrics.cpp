@@ -3,6 +3,7 @@
 // of the harness (the same code path as `simulate`), the cases of the sensitivity and shooting
 // suites, and the `ocp` command on the paper's four examples. Nothing is switched on the
 // system: scenes are loaded by name and compared through their Sample (the bindings' distance).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,7 +22,9 @@
 #include "experiments/systems/exact_reference.hpp"
 #include "experiments/methods/method.hpp"
 #include "experiments/ocp/ocp_command.hpp"
+#include "experiments/input/literature_references.hpp"
 #include "experiments/input/paper_values.hpp"
+#include "experiments/output/data_dir.hpp"
 #include "experiments/methods/recorder.hpp"
 #include "experiments/scene/scene.hpp"
 #include "experiments/suites/suite.hpp"
@@ -372,6 +375,104 @@ void exact_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
   }
 }
 
+// ---- literature: the test problems of the field against their stored references -------------
+// The shipped literature scenes (kLiteratureScenes) with their states at t_final stored in
+// validation/literature_references.toml, computed by the closed forms and checked against a
+// tight gsl-rk8pd run (compute_literature_references). Two metrics per problem:
+//  - closed-form: the closed form at t_final against the stored state. Round-off kind: the code
+//    that wrote the file reproduces it to the rounding of its elliptic functions' arguments,
+//    eps |lambda t| with |lambda| <= |Omega0|, so the floor is 8 eps (1 + |Omega0| T). A change
+//    of the closed form that moves the reference (a reference drifting like the methods) shows
+//    here first.
+//  - each method of the exact roster at the scene's own h and T against the stored state:
+//    truncation kind with floor eps N, like the exact group. Where the error is below 10 times
+//    the reference's own error bound (agreement), the detail says the metric measures the
+//    reference more than the method.
+
+struct LiteratureScene {
+  const char* scene;
+  const char* source;
+};
+constexpr LiteratureScene kLiteratureScenes[] = {
+    {"hlw-rigid-body",
+     "Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006), Sections I.2.3 and IV.1: I = (2, 1, "
+     "2/3), y0 = (cos 1.1, 0, sin 1.1), T = 100, h = 0.1"},
+    {"manifold-rigid-body",
+     "ManifoldDiffEq.jl documentation's body I = (1.6, 1, 2/3), with the Hairer-Lubich-Wanner y0 (this scene's choice)"},
+    {"detest-b5",
+     "Hull, Enright, Fellen, Sedgwick, SIAM J. Numer. Anal. 9 (1972) 603-637, DETEST problem B5: y = (sn, cn, dn)(t | "
+     "0.51), T = 12"},
+    {"symmetric-top", "the free symmetric top (free precession), J = (2, 2, 1)"},
+    {"lagrange-top", "the Lagrange top (heavy symmetric top), closed form by Jacobi sn and elliptic integrals"},
+};
+
+fs::path literature_references_file() {
+  return data_dir("validation", "validation") / "literature_references.toml";
+}
+
+void literature_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
+  const std::vector<LiteratureReference> references = read_literature_references(literature_references_file());
+  for (const LiteratureScene& ls : kLiteratureScenes) {
+    const auto found = std::find_if(references.begin(), references.end(),
+                                    [&](const LiteratureReference& r) { return r.scene == ls.scene; });
+    if (found == references.end()) {
+      throw std::logic_error("validate: " + literature_references_file().string() + " has no problem '" + ls.scene +
+                             "': write it again with validate --write-literature-references");
+    }
+    const LiteratureReference& ref = *found;
+    const Scene base = load_scene(options.scenes_dir / (std::string(ls.scene) + ".toml"));
+    const double h = base.horizon.h;
+    const double T = base.horizon.t_final;
+    if (std::abs(T - ref.t) > 1e-12 * T) {
+      throw std::logic_error("validate: the stored reference of " + std::string(ls.scene) + " is at t = " +
+                             format("%g", ref.t) + ", the scene ends at " + format("%g", T) +
+                             ": write it again with validate --write-literature-references");
+    }
+    std::string why_not;
+    const std::optional<ExactReference> exact = ExactReference::of(base.model, &why_not);
+    if (!exact) throw std::logic_error("validate: literature scene " + std::string(ls.scene) + " has no closed form: " + why_not);
+    const Sample reference = exact->sample_of(baselines::ExactState{ref.R, ref.Omega}, T);
+    const std::string digits = std::to_string(ref.digits) + " digits";
+    {
+      Metric m;
+      m.name = "literature/" + std::string(ls.scene) + "/closed-form";
+      m.kind = MetricKind::RoundOff;
+      m.value = final_state_error(base.model, exact->sample(T), reference);
+      m.floor = 8.0 * kEps * (1.0 + exact->state(0.0).Omega.norm() * T);
+      m.detail = std::string(ls.scene) + ", T = " + format("%g", T) + "; " + exact->description() +
+                 " against the stored reference (" + digits + ")";
+      out.push_back(m);
+    }
+    const auto steps = static_cast<std::int64_t>(std::llround(T / h));
+    for (const MethodUnderTest& mut : exact_methods()) {
+      if (!mut.spec.info->applies_to(base.system())) continue;
+      const std::unique_ptr<Method> method = make(mut, options);
+      const Scene scene = scene_with(options, ls.scene, h, T, steps, mut.form);
+      Run r;
+      try {
+        r = run_scene(scene, *method);
+      } catch (const InvalidInput&) {
+        // A method that refuses this body (RATTLE needs J_d positive definite: not the flat
+        // DETEST B5 body nor the nonphysical Hairer-Lubich-Wanner one) has no metric here.
+        continue;
+      }
+      const bool ok = r.stats.ok();
+      Metric m;
+      m.name = "literature/" + std::string(ls.scene) + "/" + mut.label;
+      m.kind = MetricKind::Truncation;
+      m.value = ok ? final_state_error(scene.model, r.last, reference) : std::numeric_limits<double>::quiet_NaN();
+      m.floor = kEps * static_cast<double>(steps);
+      m.seconds = r.seconds;
+      m.detail = std::string(ls.scene) + ", h = " + format("%g", h) + ", T = " + format("%g", T) +
+                 (mut.spec.rtol ? ", rtol = " + format("%g", *mut.spec.rtol) : std::string()) +
+                 "; final-state error against the stored reference (" + digits + ")" +
+                 (ok && m.value < 10.0 * ref.agreement ? ": below 10x the reference's own error bound" : "") +
+                 (ok ? "" : ": " + r.stats.brief());
+      out.push_back(m);
+    }
+  }
+}
+
 // ---- suites: the LGVI linearization and the shooting methods -------------------------------
 // The cases of the sensitivity and shooting suites (quick form), run in a scratch directory;
 // their summary fields are the metrics.
@@ -611,6 +712,9 @@ const Group kGroups[] = {
      "rotation-update Newton iterations per step",
      conservation_metrics},
     {"exact", "final-state errors against the exact free-body and Lagrange-top solutions", exact_metrics},
+    {"literature", "the literature's test problems (Hairer-Lubich-Wanner body, DETEST B5, ...): closed forms and "
+                   "methods against the stored references",
+     literature_metrics},
     {"linearization", "LGVI transition matrices vs finite differences and vs CVODES (suite sensitivity)",
      linearization_metrics},
     {"shooting", "indirect and direct shooting: cost, violation, iterations, condition numbers (suite shooting)",
@@ -635,6 +739,35 @@ std::string metric_group(const std::string& name) {
     if (first == q) return "conservation";
   }
   return first;
+}
+
+std::vector<LiteratureReference> compute_literature_references(const fs::path& scenes_dir) {
+  // The check run: gsl-rk8pd (Prince-Dormand 8(7)) on the quaternion model at rtol = atol =
+  // 1e-13, an integration that shares no code with the closed forms.
+  const std::unique_ptr<Method> check = make_method("gsl-rk8pd", MethodOptions{.model = "quaternion", .rtol = 1e-13, .atol = 1e-13});
+  std::vector<LiteratureReference> out;
+  for (const LiteratureScene& ls : kLiteratureScenes) {
+    const Scene scene = load_scene(scenes_dir / (std::string(ls.scene) + ".toml"));
+    const double T = scene.horizon.t_final;
+    std::string why_not;
+    const std::optional<ExactReference> exact = ExactReference::of(scene.model, &why_not);
+    if (!exact) throw std::logic_error("literature scene " + std::string(ls.scene) + " has no closed form: " + why_not);
+    const Run r = run_scene(scene, *check);
+    if (!r.stats.ok()) throw std::runtime_error(std::string(ls.scene) + ": the check run failed: " + r.stats.brief());
+    const baselines::ExactState x = exact->state(T);
+    LiteratureReference ref;
+    ref.scene = ls.scene;
+    ref.source = ls.source;
+    ref.t = T;
+    ref.R = x.R;
+    ref.Omega = x.Omega;
+    ref.computed_by = exact->description() + " at t; checked against gsl-rk8pd on the quaternion model at rtol = atol "
+                      "= 1e-13 (agreement: the final-state distance of the two)";
+    ref.agreement = final_state_error(scene.model, r.last, exact->sample(T));
+    ref.digits = ref.agreement > 0.0 ? static_cast<int>(std::floor(-std::log10(ref.agreement))) : 16;
+    out.push_back(std::move(ref));
+  }
+  return out;
 }
 
 std::vector<Metric> compute_metrics(const ValidateOptions& options, std::ostream& log) {

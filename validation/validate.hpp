@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "experiments/input/literature_references.hpp"
 #include "lgvi/rotation_update.hpp"
 
 namespace lgvi::experiments {
@@ -101,6 +102,12 @@ struct ValidateOptions {
 
 /// Metric groups, in the order they run: name and one-line description.
 const std::vector<std::pair<std::string, std::string>>& metric_groups();
+
+/// The literature problems' references (validation/literature_references.toml), computed again
+/// from the shipped scenes in `scenes_dir`: each scene's closed form at its t_final, checked
+/// against a gsl-rk8pd run at rtol 1e-13 (the agreement and the digits it gives). Throws
+/// std::runtime_error when a check run fails.
+std::vector<LiteratureReference> compute_literature_references(const std::filesystem::path& scenes_dir);
 
 /// Computes the metrics of the selected groups. Progress (one line per group) goes to `log`.
 /// Throws InvalidInput for an unknown group.

@@ -36,9 +36,9 @@ double sign(double x) { return x < 0.0 ? -1.0 : 1.0; }
 
 }  // namespace
 
-FreeRigidBodyExact::FreeRigidBodyExact(const Mat3& J, const Mat3& R0, const Vec3& Omega0)
+FreeRigidBodyExact::FreeRigidBodyExact(const Mat3& J, const Mat3& R0, const Vec3& Omega0, InertiaDomain domain)
     : R0_(R0), Omega0_(Omega0) {
-  const Inertia inertia = Inertia::from(J, "inertia");
+  const Inertia inertia = Inertia::from(J, "inertia", domain);
   require_finite(R0, "R0");
   if (!so3::is_rotation(R0, 1e-10)) throw InvalidInput("R0", "is not a rotation matrix (R^T R != I or det R != 1)");
   require_finite(Omega0, "Omega0");

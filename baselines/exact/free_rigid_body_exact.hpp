@@ -64,10 +64,12 @@ class FreeRigidBodyExact {
     AroundSmallestAxis,    ///< G^2 < 2 E I2: about the smallest-moment axis
   };
 
-  /// Validates J (lgvi::Inertia: symmetric positive definite, triangle inequality; field
-  /// "inertia"), R0 a rotation to 1e-10 ("R0"), Omega0 finite ("Omega0"), and rejects a state on
-  /// the separatrix ("Omega0"). Throws InvalidInput.
-  FreeRigidBodyExact(const Mat3& J, const Mat3& R0, const Vec3& Omega0);
+  /// Validates J (lgvi::Inertia: symmetric positive definite, in `domain`: the triangle
+  /// inequality unless PositiveDefinite, since the closed form solves the Euler equations of any
+  /// positive definite J; field "inertia"), R0 a rotation to 1e-10 ("R0"), Omega0 finite
+  /// ("Omega0"), and rejects a state on the separatrix ("Omega0"). Throws InvalidInput.
+  FreeRigidBodyExact(const Mat3& J, const Mat3& R0, const Vec3& Omega0,
+                     InertiaDomain domain = InertiaDomain::Physical);
 
   /// R(t), Omega(t) for any finite t (negative too); throws InvalidInput("t") otherwise.
   /// Allocation-free.

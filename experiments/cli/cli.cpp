@@ -224,6 +224,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     validate_cmd->add_flag("--degraded-rotation-update", degraded,
                            "Run the single-body LGVIs with a degraded rotation update (relative tolerance 1e-9 "
                            "instead of 16 eps, no polishing step): shows that the gate catches it (exit 4)");
+    std::string literature_out;
+    validate_cmd->add_option("--write-literature-references", literature_out,
+                             "Compute the literature problems' references again (closed forms at each scene's "
+                             "t_final, checked against gsl-rk8pd at rtol 1e-13) and write them to this file "
+                             "(validation/literature_references.toml); computes no metric");
     CLI::App* merge_cmd = app.add_subcommand(
         "merge", "Join the output directories of the shards of one suite run (suite --shard i/N) into OUT");
     std::string merge_out;
@@ -247,6 +252,20 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     const std::string command_line = quote_command_line(argc, argv);
 
     if (scenes_cmd->parsed()) return list_scenes(scenes_dir, out);
+    if (validate_cmd->parsed() && !literature_out.empty()) {
+      const std::vector<LiteratureReference> refs = compute_literature_references(scenes_dir);
+      const std::string header =
+          "The literature problems' stored references, read by `lgvi-testbed validate` (group literature).\n"
+          "Written by `lgvi-testbed validate --write-literature-references FILE` (" + std::string(git_describe()) +
+          "): for each\nscene, its state at t_final (R body to inertial, Omega body frame) by the closed form,\n"
+          "checked against an independent integration; agreement is their final-state distance\n"
+          "(max of ||dR||_F and |dOmega| / |Omega|), digits = floor(-log10(agreement)).";
+      AtomicFile file(literature_out);
+      file.write(literature_references_toml(refs, header));
+      file.commit();
+      out << "wrote " << refs.size() << " literature references to " << literature_out << "\n";
+      return kExitOk;
+    }
     if (validate_cmd->parsed()) {
       ValidateOptions options;
       options.quick = validate_quick;

@@ -1,8 +1,10 @@
 #include "experiments/methods/recorder.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <span>
 
 #include "experiments/methods/simulate.hpp"
@@ -13,6 +15,46 @@ namespace lgvi::experiments {
 
 double Diagnostics::max_energy_error() const {
   return energy_error_is_relative() ? max_abs_energy_error / std::abs(energy0) : max_abs_energy_error;
+}
+
+void EnergyTrend::add(std::size_t k, double t, double energy, double energy_error) {
+  if (n == 0) t_first = t;
+  ++n;
+  const double nd = static_cast<double>(n);
+  const double dt = t - mean_t;
+  const double de = energy_error - mean_e;
+  mean_t += dt / nd;
+  mean_e += de / nd;
+  // C += (x - mean_old)(y - mean_new): exact centred updates of the co-moments.
+  c_tt += dt * (t - mean_t);
+  c_te += dt * (energy_error - mean_e);
+  c_ee += de * (energy_error - mean_e);
+  t_last = t;
+  last_step = k;
+  max_abs_energy = std::max(max_abs_energy, std::abs(energy));
+}
+
+double EnergyTrend::slope() const { return n >= 2 && c_tt > 0.0 ? c_te / c_tt : 0.0; }
+
+namespace {
+double residual_sum_of_squares(const EnergyTrend& f) {
+  return f.n >= 2 && f.c_tt > 0.0 ? std::max(0.0, f.c_ee - f.c_te * f.c_te / f.c_tt) : 0.0;
+}
+}  // namespace
+
+double EnergyTrend::slope_standard_error() const {
+  if (n < 3 || c_tt <= 0.0) return std::numeric_limits<double>::quiet_NaN();
+  return std::sqrt(residual_sum_of_squares(*this) / (static_cast<double>(n - 2) * c_tt));
+}
+
+double EnergyTrend::residual_rms() const {
+  return n >= 2 ? std::sqrt(residual_sum_of_squares(*this) / static_cast<double>(n)) : 0.0;
+}
+
+double EnergyTrend::secular_change() const { return std::abs(slope()) * (t_last - t_first); }
+
+double EnergyTrend::round_off_floor() const {
+  return 10.0 * std::numeric_limits<double>::epsilon() * std::sqrt(static_cast<double>(last_step)) * max_abs_energy;
 }
 
 std::vector<std::string> Recorder::columns(const Model& model, bool quaternion_column) {
@@ -86,6 +128,7 @@ bool Recorder::record(std::size_t k, const Sample& s) {
   last_ = s;
   Diagnostics& d = diagnostics_;
   d.max_abs_energy_error = std::max(d.max_abs_energy_error, std::abs(energy_error));
+  d.energy_trend.add(k, s.t, c.energy, energy_error);
   d.max_orthogonality_error = std::max(d.max_orthogonality_error, orthogonality);
   d.max_determinant_error = std::max(d.max_determinant_error, determinant);
   d.max_momentum_error = std::max(d.max_momentum_error, momentum_error);

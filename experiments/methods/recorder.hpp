@@ -17,6 +17,44 @@
 
 namespace lgvi::experiments {
 
+/// The least-squares line e(t) = a + b t through the recorded energy errors e = E - E0,
+/// accumulated in one pass with centred (Welford) updates, so that no sum of t^2 ~ 1e8 cancels
+/// against its mean. It separates a secular drift (a non-symplectic method: e grows like t)
+/// from a bounded oscillation (a symplectic one) by numbers rather than by eye:
+///  - slope b and its standard error sqrt(RSS / ((n - 2) C_tt)) (the white-residual formula;
+///    the residuals of an oscillation are correlated, so read it as a lower bound);
+///  - the oscillation about the line, residual_rms = sqrt(RSS / n), resolved down to ~sqrt(eps)
+///    of the spread of e (RSS = C_ee - C_te^2 / C_tt is a difference): far below any verdict;
+///  - drifts(): the secular change |b| (t_n - t_1) exceeds 5 residual_rms and the round-off
+///    floor. The 5: an oscillation e = A sin(w t + phi) fitted over n >= 1 whole periods T gives
+///    b = -12 A cos(phi) / (w T^2), i.e. |b| T = 1.91 A |cos(phi)| / n, and leaves the residual
+///    rms sqrt(A^2 / 2 - (b T)^2 / 12) >= 0.44 A, so |b| T / rms <= 4.3 (n = 1), 1.5 (n = 2):
+///    a bounded oscillation is never called a drift; a drift c t is called one once c T exceeds
+///    ~3.5 amplitudes of the oscillation riding on it. The floor, 10 eps sqrt(k) |E|max (k the
+///    last step), is the random walk of the energy's round-off over k steps (Brouwer's law): a
+///    symplectic method at a small step wanders by that much and is bounded.
+struct EnergyTrend {
+  std::size_t n = 0;
+  double mean_t = 0.0, mean_e = 0.0;
+  double c_tt = 0.0, c_te = 0.0, c_ee = 0.0;  ///< centred sums of products
+  double t_first = 0.0, t_last = 0.0;
+  std::size_t last_step = 0;
+  double max_abs_energy = 0.0;  ///< max |E| over the samples (scale of the round-off floor)
+
+  void add(std::size_t k, double t, double energy, double energy_error);
+  /// b (energy unit per time unit); 0 with fewer than 2 samples.
+  double slope() const;
+  /// Standard error of b (white residuals); NaN with fewer than 3 samples.
+  double slope_standard_error() const;
+  /// sqrt(RSS / n), the oscillation about the line (energy unit); 0 with fewer than 2 samples.
+  double residual_rms() const;
+  /// |b| (t_last - t_first).
+  double secular_change() const;
+  /// 10 eps sqrt(last_step) max |E|.
+  double round_off_floor() const;
+  bool drifts() const { return n >= 3 && secular_change() > 5.0 * residual_rms() && secular_change() > round_off_floor(); }
+};
+
 /// Worst deviations over the recorded samples. The methods hand the recorder only the steps whose
 /// rows are written (k = 0, output_every, 2 output_every, ..., and the last step), so these are
 /// maxima over the CSV's rows: a coarse output_every can miss a peak between rows.
@@ -29,6 +67,7 @@ struct Diagnostics {
   double max_momentum_error = 0.0;       ///< max |m - m0| (Euclidean norm)
   bool quaternion_norm_recorded = false;    ///< a quaternion baseline: the next field is meaningful
   double max_quaternion_norm_error = 0.0;   ///< max | |q| - 1 |
+  EnergyTrend energy_trend;                 ///< the line through E - E0 over the samples
 
   /// Energy error normalized by |E0|, or absolute when E0 = 0 exactly.
   bool energy_error_is_relative() const { return energy0 != 0.0; }

@@ -58,6 +58,7 @@ void check_output_space(const std::filesystem::path& csv, const Horizon& horizon
 
 Fields RunSummary::to_fields() const {
   const Diagnostics& d = diagnostics;
+  const double energy_scale = d.energy_error_is_relative() ? std::abs(d.energy0) : 1.0;
   Fields f = {{"scene", scene}, {"system", system}, {"method", method}, {"version", std::string(version())}};
   f.insert(f.end(), method_settings.begin(), method_settings.end());
   const Fields rest = {
@@ -92,6 +93,12 @@ Fields RunSummary::to_fields() const {
       {"max_energy_error_relative",
        d.energy_error_is_relative() ? d.max_energy_error() : std::numeric_limits<double>::quiet_NaN()},
       {"max_energy_error_absolute", d.max_abs_energy_error},
+      // The line through E - E0 (Diagnostics::energy_trend), normalized like max_energy_error.
+      {"energy_drift_rate", d.energy_trend.slope() / energy_scale},
+      {"energy_drift_rate_stderr", d.energy_trend.slope_standard_error() / energy_scale},
+      {"energy_oscillation_rms", d.energy_trend.residual_rms() / energy_scale},
+      {"energy_secular_change", d.energy_trend.secular_change() / energy_scale},
+      {"energy_trend", std::string(d.energy_trend.drifts() ? "drifts" : "bounded")},
       {"max_orthogonality_error", d.max_orthogonality_error},
       {"max_determinant_error", d.max_determinant_error},
       {"momentum_map", momentum_map},

@@ -73,8 +73,10 @@ const std::vector<std::string>& simulation_columns() {
       "scene",           "system",           "label",           "method",           "model",
       "form",            "variant",          "h",               "rtol",             "h_omega",
       "t_final",         "solver_steps",     "evaluations",     "rhs_evaluations",  "newton_iterations",
-      "integrator_seconds", "max_energy_error_relative", "max_energy_error_absolute", "max_orthogonality_error",
-      "max_quaternion_norm_error", "max_momentum_drift_absolute", "final_error", "reference", "csv_path"};
+      "integrator_seconds", "max_energy_error_relative", "max_energy_error_absolute", "energy_drift_rate",
+      "energy_drift_rate_stderr", "energy_oscillation_rms", "energy_trend", "max_orthogonality_error",
+      "max_quaternion_norm_error", "max_momentum_drift_absolute", "final_error", "phase_shift", "phase_drift_rate",
+      "shape_error", "reference", "csv_path"};
   return columns;
 }
 

@@ -85,6 +85,12 @@ Sample ReferenceRun::sample_at(double t, const fs::path& scenes_dir) const {
   return exact_->sample(t);
 }
 
+std::optional<PhaseFit> ReferenceRun::phase_fit(const Sample& final_sample, const fs::path& scenes_dir) const {
+  prepare(scenes_dir);
+  if (!exact_) return std::nullopt;
+  return exact_->phase_fit(final_sample);
+}
+
 double final_state_error(const Model& model, const Sample& s, const Sample& ref) {
   if (std::abs(s.t - ref.t) > 1e-9 * std::max(1.0, std::abs(ref.t))) return std::numeric_limits<double>::quiet_NaN();
   return visit_binding(model, [&](auto binding, const auto& m) {
@@ -151,6 +157,14 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
                          ? final_state_error(scene.model, r.final_sample, reference_->sample_at(r.final_sample.t, ctx.scenes_dir))
                          : std::numeric_limits<double>::quiet_NaN();
     out.fields.push_back({"final_error", e});
+    if (out.completed) {
+      if (const std::optional<PhaseFit> fit = reference_->phase_fit(r.final_sample, ctx.scenes_dir)) {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        out.fields.push_back({"phase_shift", fit->converged ? fit->shift : nan});
+        out.fields.push_back({"phase_drift_rate", fit->converged && r.final_sample.t > 0.0 ? fit->shift / r.final_sample.t : nan});
+        out.fields.push_back({"shape_error", fit->converged ? fit->shape_error : nan});
+      }
+    }
     out.fields.push_back({"reference", reference_->description()});
   }
   return out;

@@ -64,6 +64,9 @@ class ReferenceRun {
   /// the reference run does not complete or the scene has no exact solution after all (each case
   /// using it then records status "error").
   Sample sample_at(double t, const std::filesystem::path& scenes_dir) const;
+  /// The phase fit of a case's final sample against the exact solution (ExactReference::phase_fit);
+  /// nullopt for a fine-run reference (no trajectory to shift along). Prepares like sample_at.
+  std::optional<PhaseFit> phase_fit(const Sample& final_sample, const std::filesystem::path& scenes_dir) const;
 
  private:
   void prepare(const std::filesystem::path& scenes_dir) const;
@@ -91,7 +94,8 @@ class SimulateJob final : public Job {
   /// output_rhs_evaluations spent on interpolating output times; LGVI: substeps, one force and
   /// moment evaluation each = steps x stages), "integrator_seconds" (wall time minus recording,
   /// of this one run, which may share the machine with other cases)
-  /// and, with a reference, "final_error" and "reference".
+  /// and, with a reference, "final_error" and "reference"; with an exact one also "phase_shift",
+  /// "phase_drift_rate" (phase_shift / t_final) and "shape_error" (ExactReference::phase_fit).
   JobResult run(const JobContext& ctx) const override;
   bool timed() const override { return spec_.timed; }
   /// Force (RHS) evaluations the run is expected to make: steps x stages for a fixed-step

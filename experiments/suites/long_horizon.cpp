@@ -8,10 +8,18 @@
 // and vs evaluations, momentum and orthogonality error vs time) and writes the tables: the cheapest
 // method per energy-error and per momentum-error level, and each fixed-step method's largest
 // completed step.
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
 #include <map>
+#include <optional>
+#include <sstream>
 
 #include "experiments/suites/study.hpp"
 #include "experiments/suites/common.hpp"
+#include "experiments/systems/exact_reference.hpp"
 #include "experiments/systems/systems.hpp"
 
 namespace lgvi::experiments::suites {
@@ -65,11 +73,135 @@ std::string largest_step_table(const std::vector<std::pair<std::string, std::vec
   return t;
 }
 
+/// The phase shift tau(t) of a case's written rows against the exact trajectory
+/// (ExactReference::phase_fit at each row's time, started from the previous row's shift so that
+/// a shift growing past half a period is followed, not wrapped; the rows' R and Omega read from
+/// its CSV), t > 0 only; rows whose fit did not converge are left out. Empty when the CSV cannot
+/// be read.
+std::vector<std::pair<double, double>> phase_history(const fs::path& csv, const ExactReference& exact) {
+  std::vector<std::pair<double, double>> out;
+  std::ifstream in(csv);
+  std::string line;
+  std::vector<int> index;  // columns t, R11..R33, Omega1..3
+  double shift = 0.0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+    if (index.empty()) {
+      for (const char* name : {"t", "R11", "R12", "R13", "R21", "R22", "R23", "R31", "R32", "R33", "Omega1", "Omega2",
+                               "Omega3"}) {
+        const auto at = std::find(cells.begin(), cells.end(), name);
+        if (at == cells.end()) return {};
+        index.push_back(static_cast<int>(at - cells.begin()));
+      }
+      continue;
+    }
+    double v[13];
+    bool ok = true;
+    for (int i = 0; i < 13 && ok; ++i) {
+      const std::size_t j = static_cast<std::size_t>(index[static_cast<std::size_t>(i)]);
+      char* end = nullptr;
+      v[i] = j < cells.size() ? std::strtod(cells[j].c_str(), &end) : 0.0;
+      ok = j < cells.size() && end != cells[j].c_str();
+    }
+    if (!ok || !(v[0] > 0.0)) continue;
+    Mat3 R;
+    R << v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9];
+    const PhaseFit fit =
+        exact.phase_fit(exact.sample_of(baselines::ExactState{R, Vec3(v[10], v[11], v[12])}, v[0]), shift);
+    if (!fit.converged) continue;
+    shift = fit.shift;
+    out.emplace_back(v[0], std::abs(fit.shift));
+  }
+  return out;
+}
+
+/// The exponent p of |tau(t)| ~ t^p: the least-squares slope of log |tau| against log t over the
+/// last decade of the run (t >= T / 10), where the start-up transient of the shift is gone. 1 for a method whose frequency error is constant (its energy
+/// error bounded: the symplectic and the symmetric methods), 2 when the frequency error grows
+/// like t (an energy drift). NaN with fewer than 10 points or a zero shift.
+double phase_growth_exponent(const std::vector<std::pair<double, double>>& history) {
+  if (history.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const double t_end = history.back().first;
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  int n = 0;
+  for (const auto& [t, tau] : history) {
+    if (t < 0.1 * t_end || !(tau > 0.0)) continue;
+    const double x = std::log(t), y = std::log(tau);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+    ++n;
+  }
+  if (n < 10) return std::numeric_limits<double>::quiet_NaN();
+  const double denominator = n * sxx - sx * sx;
+  return denominator > 0.0 ? (n * sxy - sx * sy) / denominator : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// Per scene and method, the energy trend (the least-squares line through E - E0, recorder.hpp's
+/// EnergyTrend) and, where the scene has an exact solution, the phase fit, at the largest
+/// completed step (fixed-step) or the loosest completed tolerance (adaptive): where methods differ
+/// most. The last column counts the method's completed runs over the whole sweep whose energy
+/// drifts, so one run does not decide the verdict.
+/// The methods (labels, first-appearance order) of a scene's rows, each with its completed run at
+/// the largest step (fixed-step) or the loosest tolerance (adaptive), where methods differ most,
+/// and the counts of its completed and drifting runs over the sweep.
+struct TrendPick {
+  std::string label;
+  const SummaryRow* row = nullptr;
+  int completed = 0;
+  int drifting = 0;
+};
+std::vector<TrendPick> trend_picks(const std::vector<const SummaryRow*>& rows) {
+  std::vector<TrendPick> picks;
+  const auto setting = [](const SummaryRow* r) { return r->number("rtol") ? *r->number("rtol") : r->number("h").value_or(0.0); };
+  for (const SummaryRow* r : rows) {
+    auto at = std::find_if(picks.begin(), picks.end(), [&](const TrendPick& p) { return p.label == r->text("label"); });
+    if (at == picks.end()) at = picks.insert(picks.end(), TrendPick{r->text("label")});
+    if (r->text("status") != "completed") continue;
+    ++at->completed;
+    if (r->text("energy_trend") == "drifts") ++at->drifting;
+    if (at->row == nullptr || setting(r) > setting(at->row)) at->row = r;
+  }
+  std::erase_if(picks, [](const TrendPick& p) { return p.row == nullptr; });
+  return picks;
+}
+
+std::string energy_trend_table(const std::vector<std::pair<std::string, std::vector<const SummaryRow*>>>& groups,
+                               const std::map<std::string, double>& phase_exponents) {
+  std::string t =
+      "| scene | method | h or rtol | energy drift rate [1/time] | its std. error | oscillation rms | secular change "
+      "|b| T | trend | runs that drift | phase drift rate tau/T | phase growth exponent | shape error | final error |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& [scene, rows] : groups) {
+    for (const TrendPick& p : trend_picks(rows)) {
+      const SummaryRow* pick = p.row;
+      const auto num = [&](const char* column) {
+        const auto x = pick->number(column);
+        return x ? fmt(*x) : std::string();
+      };
+      const auto exponent = phase_exponents.find(scene + "\n" + p.label);
+      t += "| " + scene + " | " + p.label + " | " +
+           (pick->number("rtol") ? "rtol " + fmt(*pick->number("rtol")) : "h " + num("h")) + " | " +
+           num("energy_drift_rate") + " | " + num("energy_drift_rate_stderr") + " | " + num("energy_oscillation_rms") +
+           " | " + fmt(std::abs(pick->number("energy_drift_rate").value_or(0.0)) * pick->number("t_final").value_or(0.0)) +
+           " | " + pick->text("energy_trend") + " | " + std::to_string(p.drifting) + " of " + std::to_string(p.completed) +
+           " | " + num("phase_drift_rate") + " | " +
+           (exponent != phase_exponents.end() && std::isfinite(exponent->second) ? fmt(exponent->second) : std::string()) +
+           " | " + num("shape_error") + " | " + num("final_error") + " |\n";
+    }
+  }
+  return t;
+}
+
 }  // namespace
 
 Suite long_horizon_suite(const SuiteParams& params) {
   Suite s = load_study(default_studies_dir() / "long-horizon.toml", params);
-  s.render = [](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
+  s.render = [scenes_dir = params.scenes_dir](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
     std::vector<fs::path> files;
     const auto groups = by_group(rows);
     const std::string time_label = "integrator wall time per run [s] (min of repeated serial runs)";
@@ -100,6 +232,32 @@ Suite long_horizon_suite(const SuiteParams& params) {
                                 f.xlabel, f.ylabel, curves_by_label(group, f.x, f.y)));
       }
     }
+    // Scenes graded against an exact solution: the phase shift tau(t) of each method's picked run
+    // (trend_picks), drawn on log-log axes (slope 1: linear growth, 2: quadratic), and its
+    // growth exponent for the table.
+    std::map<std::string, double> phase_exponents;
+    for (const auto& [scene, group] : groups) {
+      if (group.front()->text("reference").rfind("exact", 0) != 0) continue;
+      std::optional<ExactReference> exact;
+      try {
+        exact = ExactReference::of(load_scene(resolve_scene(group.front()->text("scene"), scenes_dir)).model);
+      } catch (const std::exception&) {
+        continue;  // the scene no longer loads: its cases reported it
+      }
+      if (!exact) continue;
+      std::vector<XyCurve> curves;
+      for (const TrendPick& p : trend_picks(group)) {
+        const std::vector<std::pair<double, double>> history = phase_history(ctx.data_dir / p.row->text("csv_path"), *exact);
+        phase_exponents[scene + "\n" + p.label] = phase_growth_exponent(history);
+        curves.push_back({p.label + (p.row->number("rtol") ? " rtol " : " h ") +
+                              fmt(p.row->number("rtol").value_or(p.row->number("h").value_or(0.0))),
+                          history});
+      }
+      const SystemLabels units = system_labels(group.front()->text("system"));
+      files.push_back(plot_xy(ctx, scene + "-phase-time.png",
+                              scene + ": phase shift |tau(t)| against the exact solution (largest completed h, loosest rtol)",
+                              units.time, "|tau| (time shift to the exact trajectory)", curves));
+    }
     std::string table =
         "# Long horizon: cheapest method per accuracy level\n\n"
         "Errors are maxima over the run's samples (1000 per run, every K-th step or the output grid): energy "
@@ -112,6 +270,16 @@ Suite long_horizon_suite(const SuiteParams& params) {
     table += cheapest_table(groups, "max_momentum_drift_absolute", "max momentum error", kLevels);
     table += "\n## Largest step each fixed-step method completed\n\n";
     table += largest_step_table(groups);
+    table +=
+        "\n## Energy trend and phase\n\n"
+        "The line E - E_0 = a + b t fitted to the run's samples by least squares (relative to |E_0|): its slope b "
+        "(energy drift rate) with its standard error (white residuals: a lower bound), the rms of the oscillation "
+        "about it, and the verdict: drifts when |b| T > 5 rms and above the round-off floor 10 eps sqrt(steps), else "
+        "bounded (experiments/methods/recorder.hpp, EnergyTrend). The free body is graded against its closed form: "
+        "the time shift tau that best aligns the final state with the exact trajectory (phase drift rate tau / T) "
+        "and the error left after the shift (shape error), beside the final-state error. At the largest completed "
+        "step or the loosest tolerance; 'runs that drift' counts the whole sweep.\n\n";
+    table += energy_trend_table(groups, phase_exponents);
     files.push_back(write_text_file(ctx, "long-horizon-table.md", table));
     return files;
   };

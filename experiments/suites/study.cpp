@@ -90,7 +90,9 @@ struct SceneEntry {
 };
 
 struct Reference {
-  enum class Kind { None, Exact, ExactOrRun, Run } kind = Kind::None;
+  /// ExactOrNone: the exact solution where the scene has one, no reference elsewhere (its
+  /// cases then have no final-state or phase error).
+  enum class Kind { None, Exact, ExactOrNone, ExactOrRun, Run } kind = Kind::None;
   std::string method;
   MethodOptions options;
   std::optional<double> h;
@@ -180,10 +182,12 @@ Reference read_reference(const StudyReader& r) {
   const auto kind_of = [&](const std::string& text, const std::string& f, bool table) {
     if (text == "none") return Reference::Kind::None;
     if (text == "exact") return Reference::Kind::Exact;
+    if (text == "exact-or-none") return Reference::Kind::ExactOrNone;
     if (table && text == "run") return Reference::Kind::Run;
     if (table && text == "exact-or-run") return Reference::Kind::ExactOrRun;
     r.fail(f, "unknown reference '" + text + "' (expected " +
-                  (table ? "\"run\", \"exact-or-run\", \"exact\" or \"none\"" : "\"exact\", \"none\" or a table {method, h | steps | rtol}") +
+                  (table ? "\"run\", \"exact-or-run\", \"exact\", \"exact-or-none\" or \"none\""
+                         : "\"exact\", \"exact-or-none\", \"none\" or a table {method, h | steps | rtol}") +
                   ")");
   };
   if (node->is_string()) {
@@ -191,7 +195,9 @@ Reference read_reference(const StudyReader& r) {
     return ref;
   }
   const toml::table* t = node->as_table();
-  if (t == nullptr) r.fail(field, std::string("must be \"exact\", \"none\" or a table (got ") + r.describe(*node) + ")");
+  if (t == nullptr) {
+    r.fail(field, std::string("must be \"exact\", \"exact-or-none\", \"none\" or a table (got ") + r.describe(*node) + ")");
+  }
   r.check_keys(*t, field, kReferenceKeys);
   ref.kind = Reference::Kind::Run;
   if (const toml::node* k = t->get("kind")) ref.kind = kind_of(r.string(*k, field + ".kind"), field + ".kind", true);
@@ -550,13 +556,15 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
       };
 
       std::shared_ptr<const ReferenceRun> ref;
-      if (reference.kind != Reference::Kind::None) {
+      const bool exact_here = reference.kind != Reference::Kind::ExactOrNone || ExactReference::of(e.scene->model);
+      if (reference.kind != Reference::Kind::None && exact_here) {
         SimulateSpec spec;
         spec.scene = e.arg;
         spec.overrides.t_final = T;
         spec.method = reference.method.empty() ? "lgvi" : reference.method;
         spec.options = reference.options;
-        if (reference.kind == Reference::Kind::Exact || spec.options.rtol) {
+        if (reference.kind == Reference::Kind::Exact || reference.kind == Reference::Kind::ExactOrNone ||
+            spec.options.rtol) {
           spec.overrides.h = T;  // one output interval: only the final state is compared
           spec.overrides.output_every = 1;
         } else {

@@ -21,6 +21,15 @@ const std::vector<std::pair<std::string, std::string>>& column_notes() {
       {"max_energy_error_relative",
        "max |E - E0| / |E0| over the written rows (relative, dimensionless; empty when E0 = 0)"},
       {"max_energy_error_absolute", "max |E - E0| over the written rows (absolute, energy unit)"},
+      {"energy_drift_rate",
+       "slope b of the least-squares line through E - E0 over the written rows, divided by |E0| (relative per time "
+       "unit; absolute when E0 = 0)"},
+      {"energy_drift_rate_stderr", "standard error of energy_drift_rate (white residuals: a lower bound when they "
+                                   "oscillate; same unit)"},
+      {"energy_oscillation_rms", "rms of E - E0 about that line, divided by |E0| (relative; absolute when E0 = 0)"},
+      {"energy_trend",
+       "drifts when |b| T > 5 energy_oscillation_rms and above the round-off floor 10 eps sqrt(steps) |E|, else "
+       "bounded (experiments/methods/recorder.hpp, EnergyTrend)"},
       {"max_momentum_drift_absolute",
        "max |m - m0| of the momentum map (column momentum_map of summary.jsonl) over the written rows (absolute, "
        "momentum unit)"},
@@ -29,6 +38,11 @@ const std::vector<std::pair<std::string, std::string>>& column_notes() {
       {"final_error",
        "distance of the final state from the reference (column reference): the largest of ||R - R_ref||_F and the "
        "relative errors |Omega - Omega_ref| / |Omega_ref| (and x, v) (dimensionless)"},
+      {"phase_shift",
+       "time shift tau that best aligns the final state with the exact trajectory, x(T + tau) nearest x_h(T) "
+       "(time unit; exact references only)"},
+      {"phase_drift_rate", "phase_shift / T (dimensionless)"},
+      {"shape_error", "final_error after the shift: the distance of x_h(T) from x(T + tau) (dimensionless)"},
       {"integrator_seconds", "wall time of the integration, recording excluded, sharing the machine (s)"},
       {"integrator_seconds_min", "minimum wall time per run, timed alone and repeated (s)"},
       {"integrator_seconds_median", "median wall time per run, timed alone and repeated (s)"},

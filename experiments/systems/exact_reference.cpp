@@ -1,5 +1,8 @@
 #include "experiments/systems/exact_reference.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "experiments/systems/systems.hpp"
 
 namespace lgvi::experiments {
@@ -35,7 +38,66 @@ Sample attitude_sample(const baselines::ExactState& x, double t) {
 template Sample attitude_sample<FreeBodyModel>(const baselines::ExactState&, double);
 template Sample attitude_sample<PendulumModel>(const baselines::ExactState&, double);
 
+template <class M>
+baselines::ExactState attitude_state(const Sample& s) {
+  const auto& x = state_of<M>(s);
+  return {x.R, x.Omega};
+}
+template baselines::ExactState attitude_state<FreeBodyModel>(const Sample&);
+template baselines::ExactState attitude_state<PendulumModel>(const Sample&);
+
+PhaseFit ExactReference::phase_fit(const Sample& computed, double initial_shift) const {
+  using Vec12 = Eigen::Matrix<double, 12, 1>;
+  const baselines::ExactState xh = from_sample_(computed);
+  const double t = computed.t;
+  const double rate = state(t).Omega.norm();
+  PhaseFit fit;
+  const auto distance = [&](double tau) {
+    const baselines::ExactState x = state(t + tau);
+    const double omega = x.Omega.norm();
+    const double d_omega = omega > 0.0 ? (xh.Omega - x.Omega).norm() / omega : (xh.Omega - x.Omega).norm();
+    return std::max((xh.R - x.R).norm(), d_omega);
+  };
+  if (!(rate > 0.0) || !xh.R.allFinite() || !xh.Omega.allFinite()) {
+    fit.shift = initial_shift;
+    fit.shape_error = distance(initial_shift);
+    fit.converged = rate == 0.0;
+    return fit;
+  }
+  // The scaled state (R, Omega / |Omega(t)|) as one vector.
+  const auto scaled = [rate](const Mat3& R, const Vec3& Omega) {
+    Vec12 v;
+    v.head<9>() = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(R.data());
+    v.tail<3>() = Omega / rate;
+    return v;
+  };
+  const Vec12 target = scaled(xh.R, xh.Omega);
+  const double delta = 1e-4 / rate;
+  const double max_update = 0.1 / rate;
+  double tau = initial_shift;
+  for (fit.iterations = 1; fit.iterations <= 50; ++fit.iterations) {
+    const baselines::ExactState x = state(t + tau);
+    const baselines::ExactState plus = state(t + tau + delta);
+    const baselines::ExactState minus = state(t + tau - delta);
+    const Vec12 velocity = (scaled(plus.R, plus.Omega) - scaled(minus.R, minus.Omega)) / (2.0 * delta);
+    const Vec12 residual = target - scaled(x.R, x.Omega);
+    const double speed2 = velocity.squaredNorm();
+    if (!(speed2 > 0.0)) break;
+    const double update = std::clamp(residual.dot(velocity) / speed2, -max_update, max_update);
+    tau += update;
+    if (std::abs(update) * std::sqrt(speed2) <= 1e-14) {
+      fit.converged = true;
+      break;
+    }
+  }
+  fit.iterations = std::min(fit.iterations, 50);
+  fit.shift = tau;
+  fit.shape_error = distance(tau);
+  return fit;
+}
+
 Sample ExactReference::sample(double t) const { return to_sample_(state(t), t); }
+Sample ExactReference::sample_of(const baselines::ExactState& x, double t) const { return to_sample_(x, t); }
 
 baselines::ExactState ExactReference::state(double t) const {
   return std::visit([t](const auto& solution) { return solution.state(t); }, solution_);

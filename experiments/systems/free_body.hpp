@@ -2,7 +2,10 @@
 #pragma once
 
 #include <functional>
+#include <sstream>
 #include <utility>
+
+#include <Eigen/Eigenvalues>
 
 #include "experiments/systems/exact_reference.hpp"
 #include "experiments/systems/attitude.hpp"
@@ -28,13 +31,29 @@ struct FreeBodyModel {
 
 template <std::same_as<FreeBodyModel> BoundModel>
 struct SystemBinding<BoundModel> : AttitudeBinding<FreeBodyModel> {
-  static constexpr std::array<std::string_view, 2> kParameterKeys = {"inertia", "orbit_rate"};
+  static constexpr std::array<std::string_view, 3> kParameterKeys = {"inertia", "orbit_rate", "nonphysical_inertia"};
   /// No potential: the printed form is the symmetric one unless a control or the gravity
   /// gradient acts.
   static int printed_order(const FreeBodyModel& m) { return controlled(m) || m.gravity_gradient ? 1 : 2; }
+  /// [parameters] inertia, and nonphysical_inertia (default false): true accepts principal
+  /// moments that violate the triangle inequality (InertiaDomain::PositiveDefinite, e.g. the
+  /// test sets' (2, 1, 2/3)); the momentum and the attitude are then those of the Euler equations
+  /// R' = R hat(Omega), J Omega' = J Omega x Omega, not of any physical body.
   static FreeRigidBody read_parameters(const SceneReader& r, const SceneTable& parameters) {
     const Mat3 J = r.inertia(parameters, "inertia");
-    return r.physics("parameters.", [&] { return FreeRigidBody(J); });
+    const bool nonphysical = r.has(parameters, "nonphysical_inertia") && r.boolean(parameters, "nonphysical_inertia");
+    FreeRigidBody body = r.physics("parameters.", [&] { return FreeRigidBody(J, InertiaDomain::PositiveDefinite); });
+    if (!nonphysical && !body.inertia.physical) {
+      const Eigen::SelfAdjointEigenSolver<Mat3> eig(body.inertia.J, Eigen::EigenvaluesOnly);
+      const Vec3 moments = eig.eigenvalues();
+      std::ostringstream s;
+      s.precision(6);
+      s << "violates the triangle inequality J1 + J2 >= J3 (principal moments " << moments(0) << ", " << moments(1)
+        << ", " << moments(2) << "): no physical body has these moments; to integrate the Euler equations of this "
+        << "inertia (a test-set body), set [parameters] nonphysical_inertia = true";
+      r.fail("parameters.inertia", s.str());
+    }
+    return body;
   }
   /// AttitudeBinding's model, and the orbit when [parameters] has orbit_rate.
   static FreeBodyModel read(const SceneReader& r, const SceneTable& parameters, const SceneTable& initial,
@@ -88,7 +107,9 @@ struct SystemBinding<BoundModel> : AttitudeBinding<FreeBodyModel> {
   /// The body as a 3D pendulum with rho = 0 and g = 0, whose moment m g rho x a and its
   /// derivatives vanish identically: the pendulum's LGVI and linearization (lgvi/ocp) are then
   /// the free body's (the sensitivity suite). Controls and orbit are left out.
-  static Pendulum3D as_pendulum(const FreeBodyModel& m) { return Pendulum3D(1.0, m.system.inertia.J, Vec3::Zero(), 0.0); }
+  static Pendulum3D as_pendulum(const FreeBodyModel& m) {
+    return Pendulum3D(1.0, m.system.inertia.J, Vec3::Zero(), 0.0, m.system.inertia.domain());
+  }
   /// Replaces the inertia (the extremes suite's near-symmetric and near-flat bodies).
   static void set_inertia(FreeBodyModel& m, const Mat3& J) { m.system = FreeRigidBody(J); }
   static MomentumMap momentum_map() {
@@ -107,7 +128,8 @@ struct SystemBinding<BoundModel> : AttitudeBinding<FreeBodyModel> {
       return std::nullopt;
     }
     return ExactReference::of_attitude<FreeBodyModel>(
-        baselines::FreeRigidBodyExact(m.system.inertia.J, m.initial.R, m.initial.Omega), kFreeBodyExactDescription);
+        baselines::FreeRigidBodyExact(m.system.inertia.J, m.initial.R, m.initial.Omega, m.system.inertia.domain()),
+        kFreeBodyExactDescription);
   }
 };
 

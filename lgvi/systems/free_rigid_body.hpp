@@ -16,7 +16,9 @@ struct FreeRigidBody {
 
   Inertia inertia;
 
-  explicit FreeRigidBody(const Mat3& J) : inertia(Inertia::from(J)) {}
+  /// Throws InvalidInput("inertia", ...) for a J outside `domain` (lgvi/inertia.hpp).
+  explicit FreeRigidBody(const Mat3& J, InertiaDomain domain = InertiaDomain::Physical)
+      : inertia(Inertia::from(J, "inertia", domain)) {}
 
   double potential(const Mat3& /*R*/) const { return 0.0; }
   Vec3 moment(const Mat3& /*R*/) const { return Vec3::Zero(); }

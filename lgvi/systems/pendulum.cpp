@@ -6,8 +6,8 @@
 
 namespace lgvi {
 
-Pendulum3D::Pendulum3D(double m, const Mat3& J, const Vec3& rho_, double g)
-    : mass(m), inertia(Inertia::from(J)), rho(rho_), gravity(g) {
+Pendulum3D::Pendulum3D(double m, const Mat3& J, const Vec3& rho_, double g, InertiaDomain domain)
+    : mass(m), inertia(Inertia::from(J, "inertia", domain)), rho(rho_), gravity(g) {
   require_positive(mass, "mass");
   require_finite(rho, "rho");
   require_nonnegative(gravity, "gravity");

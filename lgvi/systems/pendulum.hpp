@@ -24,8 +24,8 @@ struct Pendulum3D {
   Vec3 rho;
   double gravity;
 
-  /// Validates m > 0, g >= 0 finite, rho finite, J (see Inertia).
-  Pendulum3D(double m, const Mat3& J, const Vec3& rho_, double g);
+  /// Validates m > 0, g >= 0 finite, rho finite, J (see Inertia; in `domain`).
+  Pendulum3D(double m, const Mat3& J, const Vec3& rho_, double g, InertiaDomain domain = InertiaDomain::Physical);
 
   /// The paper's pendulum (section 3.2): m = 1 kg, J = diag(0.13, 0.28, 0.17) kg m^2,
   /// rho = (0, 0, 0.3) m. The paper does not print g; we use standard gravity 9.81 m/s^2.

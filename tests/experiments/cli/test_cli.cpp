@@ -346,11 +346,12 @@ TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
   const CliResult r = run_testbed(dir, {"scenes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  const std::vector<std::string> names = {"cart-pendulum",        "connected-bodies",   "dumbbell",
-                                          "free-body",            "lagrange-top",       "ocp-cart-pendulum",
-                                          "ocp-connected-bodies", "ocp-dumbbell",       "ocp-free-body-slew",
-                                          "ocp-pendulum",         "pendulum",           "pendulum-controlled",
-                                          "spacecraft-tumble"};
+  const std::vector<std::string> names = {"cart-pendulum",       "connected-bodies",     "detest-b5",
+                                          "dumbbell",            "free-body",            "hlw-rigid-body",
+                                          "lagrange-top",        "manifold-rigid-body",  "ocp-cart-pendulum",
+                                          "ocp-connected-bodies", "ocp-dumbbell",        "ocp-free-body-slew",
+                                          "ocp-pendulum",        "pendulum",             "pendulum-controlled",
+                                          "spacecraft-tumble",   "symmetric-top"};
   ASSERT_EQ(lines.size(), names.size()) << r.out;
   for (std::size_t i = 0; i < names.size(); ++i) {
     EXPECT_EQ(lines[i].rfind(std::string(names[i]) + " ", 0), 0u) << lines[i];
@@ -376,8 +377,9 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
   std::vector<std::string> expected = {"summary.csv", "summary.jsonl", "suite-journal.jsonl", "suite-run.json"};
-  for (const char* scene : {"cart-pendulum", "connected-bodies", "dumbbell", "free-body", "lagrange-top", "pendulum",
-                            "pendulum-controlled", "spacecraft-tumble"}) {
+  for (const char* scene : {"cart-pendulum", "connected-bodies", "detest-b5", "dumbbell", "free-body", "hlw-rigid-body",
+                            "lagrange-top", "manifold-rigid-body", "pendulum", "pendulum-controlled",
+                            "spacecraft-tumble", "symmetric-top"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
       expected.push_back(scene + std::string(suffix));
     }
@@ -386,11 +388,11 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   EXPECT_EQ(files, expected);  // and no temporaries
 
   const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.jsonl"));
-  ASSERT_EQ(summary.size(), 16u);  // one JSON object per run
-  // The metadata lines ('#') state the units and what each error column is; then header + 16 rows.
+  ASSERT_EQ(summary.size(), 24u);  // one JSON object per run
+  // The metadata lines ('#') state the units and what each error column is; then header + 24 rows.
   const std::vector<std::string> csv = lines_of(read_text(dir.work() / "res" / "summary.csv"));
   const auto metadata_end = std::find_if(csv.begin(), csv.end(), [](const std::string& l) { return !l.starts_with("#"); });
-  EXPECT_EQ(csv.end() - metadata_end, 17);
+  EXPECT_EQ(csv.end() - metadata_end, 25);
   const std::string metadata = std::accumulate(csv.begin(), metadata_end, std::string());
   for (const char* line : {"# suite: default", "# form: full", "# units: ", "# errors: ",
                            "# columns.max_energy_error_relative: ", "# columns.max_energy_error_absolute: ",

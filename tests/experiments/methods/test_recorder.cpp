@@ -3,6 +3,8 @@
 // row with inf or NaN is written.
 #include "experiments/methods/recorder.hpp"
 
+#include <cmath>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -104,6 +106,59 @@ t_final = 1e55
     EXPECT_EQ(lines[1].find("inf"), std::string::npos) << method << ": " << lines[1];
     EXPECT_EQ(lines[1].find("nan"), std::string::npos) << method << ": " << lines[1];
   }
+}
+
+// EnergyTrend: the one-pass least-squares line through E - E0 and its verdict.
+EnergyTrend trend_of(const std::function<double(double)>& e, double t0, double T, std::size_t n, double energy = 1.0) {
+  EnergyTrend f;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = t0 + T * static_cast<double>(i) / static_cast<double>(n - 1);
+    f.add(i * 100, t, energy + e(t), e(t));
+  }
+  return f;
+}
+
+TEST(EnergyTrend, ALineIsFittedExactlyEvenFarFromTheOrigin) {
+  // Centred updates: at t ~ 1e8 the raw sums of t^2 would cancel every digit of the slope.
+  for (const double t0 : {0.0, 1e8}) {
+    const EnergyTrend f = trend_of([t0](double t) { return 3e-9 * (t - t0) - 1e-10; }, t0, 1e3, 1001);
+    EXPECT_NEAR(f.slope(), 3e-9, 1e-9 * 3e-9 * (1.0 + t0 / 1e3)) << t0;
+    // The residual sum of squares is a difference, C_ee - C_te^2 / C_tt: it resolves the rms to
+    // ~sqrt(eps) of the spread of e (here 3e-6 / sqrt(12)), 4 sqrt(eps) allowed.
+    EXPECT_LT(f.residual_rms(), 4.0 * 1.5e-8 * 3e-6 / std::sqrt(12.0)) << t0;
+    EXPECT_TRUE(f.drifts()) << t0;
+  }
+}
+
+TEST(EnergyTrend, AnOscillationOverWholePeriodsIsBoundedAtEveryPhase) {
+  // |b| T <= 4.3 rms for one whole period, 1.5 rms for two (recorder.hpp): below the threshold 5.
+  for (const double periods : {1.0, 2.0, 10.0}) {
+    for (const double phase : {0.0, 0.5, 1.0, 3.14159}) {
+      const double w = 2.0 * M_PI * periods / 100.0;
+      const EnergyTrend f = trend_of([&](double t) { return 1e-6 * std::sin(w * t + phase); }, 0.0, 100.0, 2001);
+      EXPECT_FALSE(f.drifts()) << periods << " periods, phase " << phase;
+      // Between 0.44 A (one period, cos(phi) = 1) and A / sqrt(2).
+      EXPECT_GT(f.residual_rms(), 0.43e-6) << periods;
+      EXPECT_LT(f.residual_rms(), 0.71e-6) << periods;
+    }
+  }
+}
+
+TEST(EnergyTrend, ADriftUnderAnOscillationIsFoundWithItsSlope) {
+  // c T = 1e-5 against an oscillation of amplitude 1e-6 (rms 7e-7): 14 rms, above 5.
+  const EnergyTrend f = trend_of([](double t) { return 1e-7 * t + 1e-6 * std::sin(3.0 * t); }, 0.0, 100.0, 4001);
+  EXPECT_TRUE(f.drifts());
+  // The oscillation's share of the slope: 12 A / (w T^2) ~ 4e-10 at most.
+  EXPECT_NEAR(f.slope(), 1e-7, 1e-9);
+  EXPECT_GT(f.slope_standard_error(), 0.0);
+  EXPECT_LT(f.slope_standard_error(), 1e-9);
+}
+
+TEST(EnergyTrend, ARoundOffWalkIsBounded) {
+  // A linear change smaller than 10 eps sqrt(k) |E| over k = 4e5 steps: round-off, not a drift.
+  const EnergyTrend f = trend_of([](double t) { return 1e-15 * t / 100.0; }, 0.0, 100.0, 4001);
+  EXPECT_LT(f.secular_change(), f.round_off_floor());
+  EXPECT_FALSE(f.drifts());
 }
 
 }  // namespace

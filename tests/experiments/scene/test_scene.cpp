@@ -31,10 +31,11 @@ SceneError scene_error(const std::string& text, const SceneOverrides& overrides 
 
 TEST(DefaultScenes, AllLoadAndKeepTheirCsvSmall) {
   const std::vector<std::string> names = scene_names(default_scenes_dir());
-  EXPECT_EQ(names, (std::vector<std::string>{"cart-pendulum", "connected-bodies", "dumbbell", "free-body",
-                                             "lagrange-top", "ocp-cart-pendulum", "ocp-connected-bodies",
-                                             "ocp-dumbbell", "ocp-free-body-slew", "ocp-pendulum", "pendulum",
-                                             "pendulum-controlled", "spacecraft-tumble"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"cart-pendulum", "connected-bodies", "detest-b5", "dumbbell",
+                                             "free-body", "hlw-rigid-body", "lagrange-top", "manifold-rigid-body",
+                                             "ocp-cart-pendulum", "ocp-connected-bodies", "ocp-dumbbell",
+                                             "ocp-free-body-slew", "ocp-pendulum", "pendulum", "pendulum-controlled",
+                                             "spacecraft-tumble", "symmetric-top"}));
   for (const std::string& name : names) {
     const Scene s = load_scene(default_scene_file(name));
     EXPECT_EQ(s.name, name);
@@ -116,6 +117,57 @@ TEST(DefaultScenes, FreeBodySpinsNearTheIntermediateAxis) {
   const FreeBodyModel& m = std::get<FreeBodyModel>(s.model);
   EXPECT_EQ(m.initial.Omega, Vec3(0.05, 0.05, 3.0));
   EXPECT_EQ(s.horizon.steps, 10000u);
+}
+
+// The literature's bodies as printed: the Hairer-Lubich-Wanner body (2, 1, 2/3) violates the
+// triangle inequality and loads only with nonphysical_inertia; its initial momentum is (cos 1.1,
+// 0, sin 1.1) as in the book. DETEST B5 is the flat body (1.51, 0.49, 2): its Euler equations in
+// Omega = (y1, y2, -y3) are B5's, checked here from the moments.
+TEST(LiteratureScenes, HairerLubichWannerBodyNeedsTheNonphysicalKey) {
+  const Scene s = load_scene(default_scene_file("hlw-rigid-body"));
+  const FreeBodyModel& m = std::get<FreeBodyModel>(s.model);
+  EXPECT_FALSE(m.system.inertia.physical);
+  const Vec3 y0 = m.system.inertia.J * m.initial.Omega;
+  EXPECT_NEAR(y0(0), std::cos(1.1), 1e-15);
+  EXPECT_EQ(y0(1), 0.0);
+  EXPECT_NEAR(y0(2), std::sin(1.1), 1e-15);
+  EXPECT_EQ(s.horizon.h, 0.1);
+  EXPECT_EQ(s.horizon.steps, 1000u);
+
+  // Without the key: refused, and the reason names the key.
+  const SceneError e = scene_error(edited_scene("hlw-rigid-body", "nonphysical_inertia = true\n", ""));
+  EXPECT_EQ(e.field(), "parameters.inertia") << e.what();
+  EXPECT_NE(e.reason().find("triangle inequality"), std::string::npos) << e.what();
+  EXPECT_NE(e.reason().find("nonphysical_inertia = true"), std::string::npos) << e.what();
+  // The key set to false is the default.
+  const SceneError f = scene_error(edited_scene("hlw-rigid-body", "nonphysical_inertia = true", "nonphysical_inertia = false"));
+  EXPECT_EQ(f.field(), "parameters.inertia") << f.what();
+  // The key does not relax positive definiteness, and a physical body with it loads as before.
+  const SceneError g = scene_error(edited_scene("hlw-rigid-body", "inertia = [2.0, 1.0, 0.6666666666666666]",
+                                                "inertia = [2.0, -1.0, 0.6666666666666666]"));
+  EXPECT_NE(g.reason().find("positive definite"), std::string::npos) << g.what();
+  const Scene physical = parse_scene(edited_scene("free-body", "inertia = [0.13, 0.28, 0.17]",
+                                                  "inertia = [0.13, 0.28, 0.17]\nnonphysical_inertia = true"),
+                                     "test.toml");
+  EXPECT_TRUE(std::get<FreeBodyModel>(physical.model).system.inertia.physical);
+  // Only the free body takes the key.
+  const SceneError p = scene_error(edited_scene("pendulum", "gravity = 9.81", "gravity = 9.81\nnonphysical_inertia = true"));
+  EXPECT_EQ(p.field(), "parameters.nonphysical_inertia") << p.what();
+}
+
+TEST(LiteratureScenes, DetestB5IsTheEulerEquationsOfAFlatBody) {
+  const Scene s = load_scene(default_scene_file("detest-b5"));
+  const FreeBodyModel& m = std::get<FreeBodyModel>(s.model);
+  const Mat3& J = m.system.inertia.J;
+  const double J1 = J(0, 0), J2 = J(1, 1), J3 = J(2, 2);
+  // Omega1' = (J2 - J3)/J1 Omega2 Omega3 = -y2 (-y3) = y2 y3; Omega2' = (J3 - J1)/J2 Omega3 Omega1
+  // = -y3 y1 when (J3 - J1)/J2 = 1; -y3' = (J1 - J2)/J3 y1 y2 = 0.51 y1 y2.
+  EXPECT_NEAR((J2 - J3) / J1, -1.0, 1e-15);
+  EXPECT_NEAR((J3 - J1) / J2, 1.0, 1e-15);
+  EXPECT_NEAR((J1 - J2) / J3, 0.51, 1e-15);
+  EXPECT_TRUE(m.system.inertia.physical);  // J3 = J1 + J2: a lamina
+  EXPECT_EQ(m.initial.Omega, Vec3(0.0, 1.0, -1.0));
+  EXPECT_EQ(s.horizon.t_final, 12.0);
 }
 
 TEST(LoadScene, OverridesReplaceTheIntegrationValues) {

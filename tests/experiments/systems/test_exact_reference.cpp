@@ -106,5 +106,34 @@ TEST(ExactReference, WorkPrecisionGradesAgainstItWhereTheSceneHasOne) {
   EXPECT_FALSE(experiments::ReferenceRun::exact_or_run(missing, scenes)->is_exact());
 }
 
+// The phase fit (ExactReference::phase_fit) recovers a pure time shift of the exact trajectory to
+// the closed form's rounding (the residual vanishes at tau0, so the Gauss-Newton fixed point is
+// tau0 whatever the velocity's difference error), leaving a shape error at round-off; an error
+// that no shift removes (the momentum's magnitude scaled by 1 + s: another orbit) is left in the
+// shape error at its size. On the nonphysical Hairer-Lubich-Wanner body too.
+TEST(PhaseFit, RecoversATimeShiftAndLeavesTheShapeError) {
+  for (const char* name : {"free-body", "hlw-rigid-body", "lagrange-top"}) {
+    const experiments::Scene s = scene(name);
+    const std::optional<ExactReference> exact = ExactReference::of(s.model);
+    ASSERT_TRUE(exact.has_value()) << name;
+    const double t = 0.5 * s.horizon.t_final;
+    for (const double tau0 : {1e-3, -2e-2, 1e-6}) {
+      const baselines::ExactState shifted = exact->state(t + tau0);
+      const experiments::PhaseFit fit = exact->phase_fit(exact->sample_of(shifted, t));
+      EXPECT_TRUE(fit.converged) << name;
+      // 1e-14 in the scaled state, divided by its speed (>= |Omega| / 10 here): < 1e-12.
+      EXPECT_NEAR(fit.shift, tau0, 1e-12) << name << " tau0 = " << tau0;
+      EXPECT_LT(fit.shape_error, 1e-12) << name;
+    }
+    const double scale = 1e-6;
+    const baselines::ExactState x = exact->state(t + 1e-3);
+    const experiments::PhaseFit fit = exact->phase_fit(exact->sample_of({x.R, (1.0 + scale) * x.Omega}, t));
+    EXPECT_TRUE(fit.converged) << name;
+    EXPECT_NEAR(fit.shift, 1e-3, 1e-5) << name;
+    EXPECT_GT(fit.shape_error, 0.5 * scale) << name;
+    EXPECT_LT(fit.shape_error, 1.5 * scale) << name;
+  }
+}
+
 }  // namespace
 }  // namespace lgvi::test
