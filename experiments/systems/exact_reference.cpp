@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "experiments/systems/systems.hpp"
 
@@ -74,6 +75,9 @@ PhaseFit ExactReference::phase_fit(const Sample& computed, double initial_shift)
   const Vec12 target = scaled(xh.R, xh.Omega);
   const double delta = 1e-4 / rate;
   const double max_update = 0.1 / rate;
+  // The closed form rounds its phase by ~eps |lambda t| (|lambda| <= |Omega|): an update that
+  // moves the state by less than a few times that is noise.
+  const double tolerance = 8.0 * std::numeric_limits<double>::epsilon() * (1.0 + rate * std::abs(t));
   double tau = initial_shift;
   for (fit.iterations = 1; fit.iterations <= 50; ++fit.iterations) {
     const baselines::ExactState x = state(t + tau);
@@ -85,7 +89,7 @@ PhaseFit ExactReference::phase_fit(const Sample& computed, double initial_shift)
     if (!(speed2 > 0.0)) break;
     const double update = std::clamp(residual.dot(velocity) / speed2, -max_update, max_update);
     tau += update;
-    if (std::abs(update) * std::sqrt(speed2) <= 1e-14) {
+    if (std::abs(update) * std::sqrt(speed2) <= tolerance) {
       fit.converged = true;
       break;
     }

@@ -70,8 +70,8 @@ class ExactReference {
   /// velocity from central differences of the closed form (step 1e-4 / |Omega|: its relative
   /// error (1e-4)^2 / 6 only slows the convergence, the fixed point <r, dx/dtau> = 0 moves by
   /// ~2e-9 |r| / |dx/dtau|), each update capped at 0.1 / |Omega| (a tenth of a radian of rotation),
-  /// stopped when it moves the exact state by less than 1e-14 (a few times the closed form's own
-  /// rounding) or after 50 updates
+  /// stopped when it moves the exact state by less than 8 eps (1 + |Omega| t) (a few times the
+  /// closed form's own rounding of its phase at t) or after 50 updates
   /// (converged = false). A shift beyond half a period is ambiguous (the nearest minimum is
   /// reported; start from a nearby `initial_shift` to follow a growing shift). At rest
   /// (Omega = 0) the shift is 0.

@@ -121,7 +121,7 @@ TEST(PhaseFit, RecoversATimeShiftAndLeavesTheShapeError) {
       const baselines::ExactState shifted = exact->state(t + tau0);
       const experiments::PhaseFit fit = exact->phase_fit(exact->sample_of(shifted, t));
       EXPECT_TRUE(fit.converged) << name;
-      // 1e-14 in the scaled state, divided by its speed (>= |Omega| / 10 here): < 1e-12.
+      // The stopping tolerance 8 eps (1 + |Omega| t) <= 2e-13 here, over the scaled state's speed (> 0.5): < 1e-12.
       EXPECT_NEAR(fit.shift, tau0, 1e-12) << name << " tau0 = " << tau0;
       EXPECT_LT(fit.shape_error, 1e-12) << name;
     }
