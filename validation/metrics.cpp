@@ -26,6 +26,7 @@
 #include "experiments/input/paper_values.hpp"
 #include "experiments/output/data_dir.hpp"
 #include "experiments/methods/recorder.hpp"
+#include "experiments/methods/structure_defect.hpp"
 #include "experiments/scene/scene.hpp"
 #include "experiments/suites/suite.hpp"
 #include "experiments/suites/jobs.hpp"
@@ -473,6 +474,38 @@ void literature_metrics(const ValidateOptions& options, std::vector<Metric>& out
   }
 }
 
+// ---- structure: the Poisson-structure defect of every fixed-step method ----------------------
+// structure_defect (experiments/methods/structure_defect.hpp): the defect of one step's map in
+// preserving the free body's Lie-Poisson structure (h = 0.1) and the pendulum's canonical one on
+// T*SO(3) (h = 0.05), from its Jacobian by differences, on the probe scenes shared with the test
+// and the docs' table; the fixed-step baselines on the quaternion model (its attitude projected
+// onto the nearest rotation). A symplectic method's defect is the differences' error (round-off kind, its
+// floor the one structure_defect derives for an exact Poisson map); another's is O(h^(p+1))
+// (truncation kind: the discretization sets it).
+
+void structure_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
+  (void)options;
+  for (const auto& [system, h] : std::vector<std::pair<const char*, double>>{{"free-body", 0.1}, {"pendulum", 0.05}}) {
+    const Scene scene = structure_probe_scene(system, h);
+    // Every fixed-step method on the group, and the fixed-step baselines on the quaternion model.
+    for (const MethodInfo* info : methods_where([](const MethodInfo& i) { return i.fixed_step(); })) {
+      if (!info->applies_to(system)) continue;
+      const auto t0 = Clock::now();
+      const StructureDefect d = structure_defect(scene, *info);
+      Metric m;
+      m.name = "structure/" + std::string(system) + "/" + info->name + (info->on_group() ? "" : "-quaternion");
+      m.kind = info->symplectic ? MetricKind::RoundOff : MetricKind::Truncation;
+      m.value = d.defect;
+      m.floor = d.floor;
+      m.seconds = seconds_since(t0);
+      m.detail = std::string(system) + ", h = " + format("%g", h) + "; " +
+                 (std::string(system) == "free-body" ? "Lie-Poisson" : "T*SO(3)") +
+                 " structure defect of one step (floor of an exact Poisson map " + format("%.2g", d.floor) + ")";
+      out.push_back(m);
+    }
+  }
+}
+
 // ---- suites: the LGVI linearization and the shooting methods -------------------------------
 // The cases of the sensitivity and shooting suites (quick form), run in a scratch directory;
 // their summary fields are the metrics.
@@ -715,6 +748,9 @@ const Group kGroups[] = {
     {"literature", "the literature's test problems (Hairer-Lubich-Wanner body, DETEST B5, ...): closed forms and "
                    "methods against the stored references",
      literature_metrics},
+    {"structure", "Poisson-structure defect of every fixed-step method's one step (free body: Lie-Poisson; "
+                  "pendulum: T*SO(3))",
+     structure_metrics},
     {"linearization", "LGVI transition matrices vs finite differences and vs CVODES (suite sensitivity)",
      linearization_metrics},
     {"shooting", "indirect and direct shooting: cost, violation, iterations, condition numbers (suite shooting)",

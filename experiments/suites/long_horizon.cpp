@@ -73,7 +73,7 @@ std::string largest_step_table(const std::vector<std::pair<std::string, std::vec
   return t;
 }
 
-/// The phase shift tau(t) of a case's written rows against the exact trajectory
+/// The phase shift tau(t) (signed) of a case's written rows against the exact trajectory
 /// (ExactReference::phase_fit at each row's time, started from the previous row's shift so that
 /// a shift growing past half a period is followed, not wrapped; the rows' R and Omega read from
 /// its CSV), t > 0 only; rows whose fit did not converge are left out. Empty when the CSV cannot
@@ -113,7 +113,7 @@ std::vector<std::pair<double, double>> phase_history(const fs::path& csv, const 
         exact.phase_fit(exact.sample_of(baselines::ExactState{R, Vec3(v[10], v[11], v[12])}, v[0]), shift);
     if (!fit.converged) continue;
     shift = fit.shift;
-    out.emplace_back(v[0], std::abs(fit.shift));
+    out.emplace_back(v[0], fit.shift);
   }
   return out;
 }
@@ -128,8 +128,8 @@ double phase_growth_exponent(const std::vector<std::pair<double, double>>& histo
   double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
   int n = 0;
   for (const auto& [t, tau] : history) {
-    if (t < 0.1 * t_end || !(tau > 0.0)) continue;
-    const double x = std::log(t), y = std::log(tau);
+    if (t < 0.1 * t_end || !(std::abs(tau) > 0.0)) continue;
+    const double x = std::log(t), y = std::log(std::abs(tau));
     sx += x;
     sy += y;
     sxx += x * x;
@@ -175,7 +175,8 @@ std::vector<TrendPick> trend_picks(const std::vector<const SummaryRow*>& rows) {
 }
 
 std::string energy_trend_table(const std::vector<std::pair<std::string, std::vector<const SummaryRow*>>>& groups,
-                               const std::map<std::string, double>& phase_exponents) {
+                               const std::map<std::string, double>& phase_exponents,
+                               const std::map<std::string, double>& tracked_rates) {
   std::string t =
       "| scene | method | h or rtol | energy drift rate [1/time] | its std. error | oscillation rms | secular change "
       "|b| T | trend | runs that drift | finest h or rtol | phase drift rate tau/T | phase growth exponent | shape "
@@ -193,12 +194,14 @@ std::string energy_trend_table(const std::vector<std::pair<std::string, std::vec
       const SummaryRow* r = p.row;
       const SummaryRow* f = p.finest;
       const auto exponent = phase_exponents.find(scene + "\n" + p.label);
+      const auto tracked = tracked_rates.find(scene + "\n" + p.label);
       const bool graded = !f->text("final_error").empty();
       t += "| " + scene + " | " + p.label + " | " + setting(r) + " | " + num(r, "energy_drift_rate") + " | " +
            num(r, "energy_drift_rate_stderr") + " | " + num(r, "energy_oscillation_rms") + " | " +
            fmt(std::abs(r->number("energy_drift_rate").value_or(0.0)) * r->number("t_final").value_or(0.0)) + " | " +
            r->text("energy_trend") + " | " + std::to_string(p.drifting) + " of " + std::to_string(p.completed) + " | " +
-           (graded ? setting(f) : std::string()) + " | " + num(f, "phase_drift_rate") + " | " +
+           (graded ? setting(f) : std::string()) + " | " +
+           (tracked != tracked_rates.end() ? fmt(tracked->second) : num(f, "phase_drift_rate")) + " | " +
            (exponent != phase_exponents.end() && std::isfinite(exponent->second) ? fmt(exponent->second) : std::string()) +
            " | " + num(f, "shape_error") + " | " + num(f, "final_error") + " |\n";
     }
@@ -245,6 +248,7 @@ Suite long_horizon_suite(const SuiteParams& params) {
     // (trend_picks), drawn on log-log axes (slope 1: linear growth, 2: quadratic), and its
     // growth exponent for the table.
     std::map<std::string, double> phase_exponents;
+    std::map<std::string, double> tracked_rates;  // tau(T) / T followed along the rows
     for (const auto& [scene, group] : groups) {
       if (group.front()->text("reference").rfind("exact", 0) != 0) continue;
       std::optional<ExactReference> exact;
@@ -259,9 +263,12 @@ Suite long_horizon_suite(const SuiteParams& params) {
         const std::vector<std::pair<double, double>> history =
             phase_history(ctx.data_dir / p.finest->text("csv_path"), *exact);
         phase_exponents[scene + "\n" + p.label] = phase_growth_exponent(history);
-        curves.push_back({p.label + (p.finest->number("rtol") ? " rtol " : " h ") +
-                              fmt(p.finest->number("rtol").value_or(p.finest->number("h").value_or(0.0))),
-                          history});
+        if (!history.empty()) tracked_rates[scene + "\n" + p.label] = history.back().second / history.back().first;
+        XyCurve curve{p.label + (p.finest->number("rtol") ? " rtol " : " h ") +
+                          fmt(p.finest->number("rtol").value_or(p.finest->number("h").value_or(0.0))),
+                      {}};
+        for (const auto& [t, tau] : history) curve.points.emplace_back(t, std::abs(tau));
+        curves.push_back(std::move(curve));
       }
       const SystemLabels units = system_labels(group.front()->text("system"));
       files.push_back(plot_xy(ctx, scene + "-phase-time.png",
@@ -286,13 +293,15 @@ Suite long_horizon_suite(const SuiteParams& params) {
         "(energy drift rate) with its standard error (white residuals: a lower bound), the rms of the oscillation "
         "about it, and the verdict: drifts when |b| T > 5 rms and above the round-off floor 10 eps sqrt(steps), else "
         "bounded (experiments/methods/recorder.hpp, EnergyTrend). The free body is graded against its closed form: "
-        "the time shift tau that best aligns the final state with the exact trajectory (phase drift rate tau / T) "
-        "and the error left after the shift (shape error), beside the final-state error, and the exponent p of "
+        "the time shift tau that best aligns the state with the exact trajectory, followed row by row from t = 0 "
+        "(phase drift rate tau(T) / T), the error left after the shift at T (shape error; empty where the fit "
+        "started from tau = 0 at T alone finds no minimum: a shift of a large part of a period), beside the "
+        "final-state error, and the exponent p of "
         "|tau(t)| ~ t^p over the last decade of the run (1: a constant frequency error, bounded energy error; 2: a "
         "frequency error growing like t). The energy trend is at the largest completed step or the loosest "
         "tolerance ('runs that drift' counts the whole sweep), the phase at the smallest step or the tightest "
         "tolerance, where the shift stays small enough to follow.\n\n";
-    table += energy_trend_table(groups, phase_exponents);
+    table += energy_trend_table(groups, phase_exponents, tracked_rates);
     files.push_back(write_text_file(ctx, "long-horizon-table.md", table));
     return files;
   };

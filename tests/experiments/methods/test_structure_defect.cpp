@@ -3,7 +3,7 @@
 // so(3)*) and the pendulum (canonical structure of T*SO(3)), and each method's `symplectic` trait
 // checked against it:
 //   - the formulas first: the exact flow (closed forms: the free body's, the Lagrange top's) and
-//     an adaptive Prince-Dormand 8(9) step at rtol 1e-13 must show a defect at the finite
+//     an adaptive Prince-Dormand 8(7) step at rtol 1e-13 must show a defect at the finite
 //     differences' floor; a non-symplectic method of order p a one-step defect falling like
 //     h^(p+1), i.e. by 2^(p+1) as h halves;
 //   - then every method: trait symplectic (or variational) => both defects <= their floors at h
@@ -96,7 +96,7 @@ TEST(StructureDefectFormulas, ExactLagrangeTopFlowIsCanonicalToTheFloor) {
 }
 
 TEST(StructureDefectFormulas, TightAdaptiveStepIsCanonicalToItsTolerance) {
-  // One step of the asymmetric pendulum by Prince-Dormand 8(9) at rtol = atol = 1e-13 on the
+  // One step of the asymmetric pendulum by Prince-Dormand 8(7) at rtol = atol = 1e-13 on the
   // quaternion model: its map differs from the flow by ~1e-13, and its adapted steps make the
   // map rough at that level, so eps_y = 1e-13 (not 16 eps) sets the increment and the floor.
   MethodOptions o;

@@ -202,6 +202,41 @@ TEST(StudyRun, ATinyStudyRunsEveryCaseAgainstTheExactSolutionAndDrawsItsFigures)
   EXPECT_EQ(table.front().find("integrator_seconds_min"), std::string::npos);
 }
 
+// reference = "exact-or-none": the free body is graded against its closed form (final error and
+// the phase fit), the pendulum (no closed form at its state) against nothing; every case has its
+// energy trend. A symmetric method's error over 2 s of the free body is mostly a time shift: the
+// shape error left after the fitted shift is below the final error.
+TEST(StudyRun, ExactOrNoneGradesWhereAClosedFormExistsAndFitsThePhase) {
+  TempDir dir;
+  const fs::path file = dir.scenes() / "mixed.toml";
+  write_text(file, R"(name = "mixed"
+scenes = ["free-body", "pendulum"]
+methods = ["lgvi"]
+horizons = [2.0]
+h = [0.01]
+reference = "exact-or-none"
+metrics = ["energy"]
+samples = 20
+)");
+  const CliResult r = run_testbed(dir, {"study", file.string(), "--out", "res"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> table = summary_table(dir.work() / "res" / "summary.csv");
+  ASSERT_EQ(table.size(), 3u);
+  EXPECT_EQ(column_of(table, "case"), (std::vector<std::string>{"free-body-lgvi-h0.01", "pendulum-lgvi-h0.01"}));
+  const std::vector<std::string> reference = column_of(table, "reference");
+  EXPECT_TRUE(reference[0].starts_with("exact (closed form")) << reference[0];
+  EXPECT_EQ(reference[1], "");
+  const std::vector<std::string> final_error = column_of(table, "final_error");
+  const std::vector<std::string> shape = column_of(table, "shape_error");
+  const std::vector<std::string> shift = column_of(table, "phase_shift");
+  ASSERT_FALSE(shape[0].empty());
+  EXPECT_LT(std::stod(shape[0]), std::stod(final_error[0]));
+  EXPECT_LT(std::abs(std::stod(shift[0])), 1e-3);  // h^2 |Omega|^2 t ~ 2e-3 s at most
+  EXPECT_EQ(final_error[1], "");
+  EXPECT_EQ(shift[1], "");
+  for (const std::string& trend : column_of(table, "energy_trend")) EXPECT_EQ(trend, "bounded");
+}
+
 TEST(StudyRun, ScenePathsAreRelativeToTheStudyFileAndNamedByTheirStem) {
   TempDir dir;
   write_text(dir.scenes() / "my-body.toml", edited_scene("free-body", "t_final = 50.0", "t_final = 0.5"));
