@@ -45,6 +45,7 @@
 #pragma once
 
 #include "baselines/exact/elliptic.hpp"
+#include "lgvi/inertia.hpp"
 #include "lgvi/types.hpp"
 
 namespace lgvi::baselines {
