@@ -88,7 +88,8 @@ class CoordinateOde final : public Ode {
   /// The paper's variables at y: R_i = Chart::rotation(c_i) (for the renormalized model, of the
   /// normalized quaternion: between two steps an interpolant is off the unit sphere by the local
   /// error, and that model's promise is a unit quaternion), Omega_i, x, x', and per body the
-  /// quaternion's unit-norm error | |q| - 1 | (0 for the other charts).
+  /// unit-norm error | |q| - 1 | of the quaternion in y as the solver holds it, before that
+  /// normalization (0 for the other charts).
   struct Decoded {
     Config config;
     Rate rates;
@@ -247,11 +248,10 @@ auto CoordinateOde<Chart, M>::decode(const double* y_ptr) const -> Decoded {
   for (int i = 0; i < N; ++i) {
     typename Chart::Coords c = y.template segment<C>(C * i);
     if constexpr (std::is_same_v<Chart, QuaternionChart>) {
+      // The norm of the solver's own state, before the renormalized model normalizes it here:
+      // a missing renormalization between steps must show in this record.
       d.quaternion_norm_error[i] = Chart::norm_error(c);
-      if (renormalize_) {
-        c.normalize();
-        d.quaternion_norm_error[i] = Chart::norm_error(c);
-      }
+      if (renormalize_) c.normalize();
     }
     d.config.R[i] = Chart::rotation(c);
   }

@@ -82,7 +82,11 @@ LGVI_FLATTEN RotationUpdateSummary CartPendulumLgvi::step(const State& in, doubl
   // pendulum and cart parts cancel only through R (a x b) = R a x R b.
   const Mat3 increment = in.R * A[0] - in.R_compensation;
   const Mat3 R1 = in.R + increment;
-  out.R_compensation = (R1 - in.R) - increment;
+  if (compensated_attitude_) {
+    out.R_compensation = (R1 - in.R) - increment;
+  } else {
+    out.R_compensation.setZero();
+  }
   const Vec3 M1 = S.moment(R1);
   out.Pi = so3::vee(Jd * A[0] - A[0].transpose() * Jd) / h +
            (m / h) * d.cross(R1.transpose().leftCols<2>() * dq) + (0.5 * h) * M1;

@@ -54,9 +54,11 @@ class CartPendulumLgvi {
   using Control = Vec2;
   static constexpr int potential_evaluations_per_step = 1;
 
+  /// `compensated_attitude` false forms R_{k+1} = R_k + R_k (F - I) as a plain sum
+  /// (RotationUpdateOptions::compensated_attitude: a degradation, for the gate's test only).
   explicit CartPendulumLgvi(const CartPendulum& system, LgviForm form = LgviForm::Symmetric,
-                            GroupNewtonOptions options = {})
-      : system_(system), form_(form), options_(options) {}
+                            GroupNewtonOptions options = {}, bool compensated_attitude = true)
+      : system_(system), form_(form), options_(options), compensated_attitude_(compensated_attitude) {}
 
   /// From the paper's variables (eq. 37). Validates R orthonormal and finite values.
   State make_state(const Mat3& R, const Vec2& q, const Vec3& Omega, const Vec2& q_dot) const;
@@ -85,6 +87,7 @@ class CartPendulumLgvi {
   const CartPendulum& system_;
   LgviForm form_;
   GroupNewtonOptions options_;
+  bool compensated_attitude_ = true;
 };
 
 /// State of the connected bodies: attitudes and discrete body momenta.

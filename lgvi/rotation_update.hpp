@@ -75,6 +75,11 @@ struct RotationUpdateOptions {
   /// the solver below). Switched off only to demonstrate that the regression gate catches a
   /// degraded solver (`validate --degraded-rotation-update`).
   bool polish = true;
+  /// The multibody LGVI whose attitude update is a sum, the cart-pendulum's R_{k+1} = R_k +
+  /// R_k (F - I), forms it by compensated summation (multibody_lgvi.cpp). Switched off only to
+  /// demonstrate that the gate catches it (`validate --degrade uncompensated-attitude`): R then
+  /// random-walks off SO(3) by ~eps per step.
+  bool compensated_attitude = true;
 };
 
 struct RotationUpdateSummary {

@@ -409,8 +409,8 @@ py::dict validate(bool quick, const std::vector<std::string>& only, const std::o
     rows.append(d);
   }
   py::dict counts;
-  for (const ex::Verdict v : {ex::Verdict::Pass, ex::Verdict::Regressed, ex::Verdict::Improved, ex::Verdict::New,
-                              ex::Verdict::Missing}) {
+  for (const ex::Verdict v : {ex::Verdict::Pass, ex::Verdict::Regressed, ex::Verdict::Improved, ex::Verdict::Changed,
+                              ex::Verdict::New, ex::Verdict::Missing}) {
     counts[ex::to_string(v)] = report.count(v);
   }
   std::ostringstream table;
@@ -422,7 +422,7 @@ py::dict validate(bool quick, const std::vector<std::string>& only, const std::o
   out["version"] = report.version;
   out["rows"] = rows;
   out["counts"] = counts;
-  out["regressed"] = report.regressed();
+  out["regressed"] = report.failed();
   out["table"] = table.str();
   return out;
 }

@@ -66,10 +66,26 @@ struct MethodUnderTest {
   double order() const { return form == LgviForm::Printed ? 1.0 : static_cast<double>(spec.info->order); }
 };
 
+/// The LGVIs' rotation-update options with the run's degradations planted.
+RotationUpdateOptions rotation_options(const ValidateOptions& options) {
+  RotationUpdateOptions r;
+  if (options.degrades(Degradation::RotationUpdate)) {
+    r.relative_tolerance = 1e-9;
+    r.polish = false;
+  }
+  if (options.degrades(Degradation::UncompensatedAttitude)) r.compensated_attitude = false;
+  return r;
+}
+
 std::unique_ptr<Method> make(const MethodUnderTest& m, const ValidateOptions& options) {
   MethodOptions o = m.spec.options();
-  if (m.spec.info->takes_rotation_update) o.rotation_update = options.rotation;
+  if (m.spec.info->takes_rotation_update) o.rotation_update = rotation_options(options);
   return make_method(m.spec.method, o);
+}
+
+/// The closed form's time argument: t, or with the exact-reference degradation t (1 - 1e-9).
+double reference_time(const ValidateOptions& options, double t) {
+  return options.degrades(Degradation::ExactReference) ? t * (1.0 - 1e-9) : t;
 }
 
 struct Run {
@@ -92,6 +108,18 @@ Run run_scene(const Scene& scene, const Method& method) {
   return r;
 }
 
+/// A scene of the gate's own (validation/scenes/NAME.toml: controlled variants, a badly
+/// conditioned body) or else a shipped one (the scenes directory).
+fs::path scene_file(const ValidateOptions& options, const std::string& name) {
+  const fs::path own = data_dir("validation", "validation") / "scenes" / (name + ".toml");
+  std::error_code ec;
+  return fs::exists(own, ec) ? own : options.scenes_dir / (name + ".toml");
+}
+
+Scene load_named(const ValidateOptions& options, const std::string& name) { return load_scene(scene_file(options, name)); }
+
+/// The scene with h, t_final, output_every and form replaced; with the control-timing
+/// degradation every control late by one step h.
 Scene scene_with(const ValidateOptions& options, const std::string& name, double h, double t_final,
                  std::int64_t every, std::optional<LgviForm> form = std::nullopt) {
   SceneOverrides o;
@@ -99,7 +127,11 @@ Scene scene_with(const ValidateOptions& options, const std::string& name, double
   o.t_final = t_final;
   o.output_every = every;
   o.form = form;
-  return load_scene(options.scenes_dir / (name + ".toml"), o);
+  Scene scene = load_scene(scene_file(options, name), o);
+  if (options.degrades(Degradation::ControlTiming)) {
+    visit_binding(scene.model, [h](auto binding, auto& m) { decltype(binding)::delay_controls(m, h); });
+  }
+  return scene;
 }
 
 // ---- order --------------------------------------------------------------------------------
@@ -116,14 +148,25 @@ struct OrderScene {
   const char* scene;
   double t_final;
   std::size_t step_factor;  ///< multiplies base_steps: 2 for a fast scene
+  /// The scene has a control: its final-state difference is gated too ("final/SCENE/METHOD").
+  bool controlled = false;
 };
-// The five systems, each with a control where its scene has one (the control's impulses are
-// part of the order: the printed form's end-of-step impulse is first order). The pendulum
-// tumbles at |Omega| ~ 7 rad/s and the connected bodies' coupling makes their error constants
-// large: twice the steps of the other scenes.
+// The five systems uncontrolled where a shipped scene is, and each with a control (the
+// control's impulses are part of the order: the printed form's end-of-step impulse is first
+// order, the symmetric form's half impulses second): pendulum-controlled and connected-bodies
+// are shipped, the other three controlled variants are the gate's own (validation/scenes/).
+// The pendulum tumbles at |Omega| ~ 7 rad/s and the connected bodies' coupling makes their
+// error constants large: twice the steps of the other scenes.
 constexpr OrderScene kOrderScenes[] = {
-    {"free-body", 1.0, 1}, {"pendulum-controlled", 1.0, 2}, {"dumbbell", 2.0, 1}, {"cart-pendulum", 1.0, 1},
-    {"connected-bodies", 1.0, 2}};
+    {"free-body", 1.0, 1},
+    {"pendulum-controlled", 1.0, 2, true},
+    {"dumbbell", 2.0, 1},
+    {"cart-pendulum", 1.0, 1},
+    {"connected-bodies", 1.0, 2, true},
+    {"free-body-controlled", 1.0, 1, true},
+    {"dumbbell-controlled", 2.0, 1, true},
+    {"cart-pendulum-controlled", 1.0, 1, true},
+};
 
 std::size_t base_steps(double order) { return order <= 1.0 ? 100 : order <= 2.0 ? 50 : order <= 4.0 ? 32 : 16; }
 
@@ -160,13 +203,13 @@ std::vector<MethodUnderTest> order_methods() {
 
 /// The nominal order of the printed LGVI form on a scene (its binding's printed_order).
 double printed_order(const char* scene, const ValidateOptions& options) {
-  const Scene s = load_scene(options.scenes_dir / (std::string(scene) + ".toml"));
+  const Scene s = load_named(options, scene);
   return visit_binding(s.model, [](auto binding, const auto& m) { return double(decltype(binding)::printed_order(m)); });
 }
 
 void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
   for (const OrderScene& os : kOrderScenes) {
-    const std::string system = load_scene(options.scenes_dir / (std::string(os.scene) + ".toml")).system();
+    const std::string system = load_named(options, os.scene).system();
     for (const MethodUnderTest& mut : order_methods()) {
       if (!mut.spec.info->applies_to(system)) continue;  // a splitting on a non-separable system
       // The order scene free-body.toml has no control: splitting-exact integrates it exactly.
@@ -212,6 +255,24 @@ void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
       m.seconds = seconds_since(t0);
       m.detail = detail;
       out.push_back(m);
+      if (os.controlled) {
+        // The finest difference |y_{4 N0} - y_{8 N0}|: the 4 N0 run's error to O(2^-p), set by
+        // the discretization (truncation kind). Any change of where or how a control acts moves
+        // its leading digits even where the order stays, and either way: a printed form's
+        // impulse moved one step late lands nearer the symmetric placement and lowers it. So it
+        // is two-sided (where a control acts is the scheme's definition). Its round-off share:
+        // eps per step over the 8 N0 steps.
+        Metric f;
+        f.name = "final/" + std::string(os.scene) + "/" + mut.label;
+        f.kind = MetricKind::Truncation;
+        f.two_sided = true;
+        f.value = ok ? state_distance(*model, finals[2], finals[3]) : std::numeric_limits<double>::quiet_NaN();
+        f.floor = kEps * static_cast<double>(8 * n0);
+        f.seconds = 0.0;
+        f.detail = std::string(os.scene) + ", T = " + format("%g", os.t_final) + "; final-state difference of the " +
+                   std::to_string(4 * n0) + "- and " + std::to_string(8 * n0) + "-step runs";
+        out.push_back(f);
+      }
     }
   }
 }
@@ -220,13 +281,42 @@ void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
 // Each scene at its own h over a fixed number of steps (quick 10^4, full 10^5), every step
 // recorded into the diagnostics. A quantity a method keeps to round-off (the LGVI's momentum
 // maps and orthogonality, a renormalized quaternion's norm) is gated as round-off with the
-// floor eps sqrt(steps) (a random walk of one rounding per step); the rest as truncation.
+// floor of how its error grows (round_off_floor); the rest as truncation.
+// The badly conditioned body (validation/scenes/ill-conditioned-body.toml) is the case where
+// the rotation update's tolerance matters: its Newton counts and energy move with it.
 // Controls are dropped (each system's binding; only the connected bodies' scene has one): its work changes the energy
 // by 10-60x the initial energy over the horizon, so an "energy error" would measure the control
 // along a chaotic trajectory, not the integrator, and move with every round-off change.
 
 constexpr const char* kConservationScenes[] = {"free-body", "pendulum", "dumbbell", "cart-pendulum",
-                                               "connected-bodies"};
+                                               "connected-bodies", "ill-conditioned-body"};
+
+/// How a round-off error grows over N steps, and so its floor.
+enum class ErrorGrowth {
+  RandomWalk,  ///< one fresh rounding per step, uncorrelated: eps sqrt(N)
+  Bounded,     ///< rounding carried (compensated sum) or removed (renormalized) each step: 4 eps
+};
+
+/// The floor of a round-off metric. Bounded: the state's own rounding (a 3x3 product or a
+/// normalization, <= 2 eps) plus that of forming the metric (R^T R - I: <= 2 eps), whatever N;
+/// a lost compensation or renormalization random-walks to ~eps sqrt(N), 100 x the floor at
+/// N = 10^4, beyond the factor 10 of the round-off rule.
+double round_off_floor(ErrorGrowth growth, std::size_t steps) {
+  return growth == ErrorGrowth::Bounded ? 4.0 * kEps : kEps * std::sqrt(static_cast<double>(steps));
+}
+
+/// The system's LGVI forms R_{k+1} by a compensated sum (the binding's optional trait
+/// lgvi_attitude_compensated; the cart-pendulum's).
+bool lgvi_attitude_compensated(const Model& model) {
+  return visit_binding(model, [](auto binding, const auto&) {
+    using B = decltype(binding);
+    if constexpr (requires { B::lgvi_attitude_compensated; }) {
+      return bool(B::lgvi_attitude_compensated);
+    } else {
+      return false;
+    }
+  });
+}
 
 /// The LGVI in both forms and at order 4, the other methods on the group (by trait), and
 /// baselines picked by name.
@@ -256,7 +346,7 @@ std::vector<MethodUnderTest> conservation_methods() {
 void conservation_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
   const std::size_t steps = options.quick ? 10'000 : 100'000;
   for (const char* scene_name : kConservationScenes) {
-    const Scene base = load_scene(options.scenes_dir / (std::string(scene_name) + ".toml"));
+    const Scene base = load_named(options, scene_name);
     const double h = base.horizon.h;
     for (const MethodUnderTest& mut : conservation_methods()) {
       if (!mut.spec.info->applies_to(base.system())) continue;
@@ -267,27 +357,33 @@ void conservation_metrics(const ValidateOptions& options, std::vector<Metric>& o
       const Diagnostics& d = r.diagnostics;
       const double nan = std::numeric_limits<double>::quiet_NaN();
       const bool ok = r.stats.ok();
-      const double floor = kEps * std::sqrt(static_cast<double>(steps));
+      const double floor = round_off_floor(ErrorGrowth::RandomWalk, steps);
       const std::string subject = std::string(scene_name) + "/" + mut.label;
       const std::string detail = std::string(scene_name) + ", h = " + format("%g", h) + ", " + std::to_string(steps) +
                                  " steps" + (mut.spec.rtol ? ", rtol = " + format("%g", *mut.spec.rtol) : std::string()) +
                                  (ok ? "" : ": " + r.stats.brief());
-      const auto add = [&](const std::string& quantity, double value, bool kept) {
+      const auto add = [&](const std::string& quantity, double value, bool kept, double metric_floor) {
         Metric m;
         m.name = quantity + "/" + subject;
         m.kind = kept ? MetricKind::RoundOff : MetricKind::Truncation;
         m.value = ok ? value : nan;
-        m.floor = floor;
+        m.floor = metric_floor;
         m.seconds = r.seconds;
         m.detail = detail;
         out.push_back(m);
       };
-      add("energy", d.max_energy_error(), false);
+      add("energy", d.max_energy_error(), false, floor);
       const double momentum = d.momentum0_norm > 0.0 ? d.max_momentum_error / d.momentum0_norm : d.max_momentum_error;
-      add("momentum", momentum, mut.spec.info->preserves_momentum_map);
-      add("orthogonality", d.max_orthogonality_error, mut.spec.info->stays_on_group || mut.spec.model != "matrix");
+      add("momentum", momentum, mut.spec.info->preserves_momentum_map, floor);
+      const bool compensated = mut.spec.info->takes_rotation_update && lgvi_attitude_compensated(scene.model);
+      add("orthogonality", d.max_orthogonality_error, mut.spec.info->stays_on_group || mut.spec.model != "matrix",
+          compensated ? round_off_floor(ErrorGrowth::Bounded, steps) : floor);
       if (d.quaternion_norm_recorded) {
-        add("quaternion-norm", d.max_quaternion_norm_error, mut.spec.model == "quaternion-renormalized");
+        // The norm of the solver's state before any normalization (CoordinateOde::decode): the
+        // renormalized model's is bounded, the plain quaternion's a truncation error.
+        const bool renormalized = mut.spec.model == "quaternion-renormalized";
+        add("quaternion-norm", d.max_quaternion_norm_error, renormalized,
+            renormalized ? round_off_floor(ErrorGrowth::Bounded, steps) : floor);
       }
       if (mut.spec.info->reports_step_iterations && ok) {
         Metric m;
@@ -387,6 +483,7 @@ void final_error_metrics(const ValidateOptions& options, const FinalErrorRoster&
     m.value = ok ? final_state_error(scene.model, r.last, roster.reference(r.last.t))
                  : std::numeric_limits<double>::quiet_NaN();
     m.floor = kEps * static_cast<double>(roster.steps);
+    m.two_sided = true;  // it measures the reference as much as the method
     m.seconds = r.seconds;
     m.detail = std::string(roster.scene) + ", h = " + format("%g", roster.h) + ", T = " + format("%g", roster.t_final) +
                (mut.spec.rtol ? ", rtol = " + format("%g", *mut.spec.rtol) : std::string()) +
@@ -399,20 +496,48 @@ void final_error_metrics(const ValidateOptions& options, const FinalErrorRoster&
 
 void exact_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
   for (const ExactScene& es : kExactScenes) {
-    const Scene base = load_scene(options.scenes_dir / (std::string(es.scene) + ".toml"));
+    const Scene base = load_named(options, es.scene);
     const double h = base.horizon.h;
     const double t_final = options.quick ? es.quick_t_final : es.full_t_final;
     const auto steps = static_cast<std::int64_t>(std::llround(t_final / h));
     std::string why_not;
     const std::optional<ExactReference> exact = ExactReference::of(base.model, &why_not);
     if (!exact) throw std::logic_error("validate: scene " + std::string(es.scene) + " has no exact solution: " + why_not);
+    {
+      // The closed form itself against gsl-rk8pd (Prince-Dormand 8(7), quaternion model) at
+      // rtol = atol = 1e-13 over the same horizon: an integration that shares no code with it.
+      // The distance is the tight run's error (~1e-12), reproduced by the same code to round-off:
+      // truncation kind, two-sided, with the closed form's own rounding floor 8 eps (1 +
+      // |Omega0| T) (its elliptic functions' arguments, as the literature group's).
+      MethodOptions tight;
+      tight.model = "quaternion";
+      tight.rtol = 1e-13;
+      tight.atol = 1e-13;
+      const auto t0 = Clock::now();
+      const Scene scene = scene_with(options, es.scene, h, h * static_cast<double>(steps), steps);
+      const Run r = run_scene(scene, *make_method("gsl-rk8pd", tight));
+      Metric m;
+      m.name = "exact/" + std::string(es.scene) + "/closed-form";
+      m.kind = MetricKind::Truncation;
+      m.two_sided = true;
+      m.value = r.stats.ok() ? final_state_error(scene.model, r.last, exact->sample(reference_time(options, r.last.t)))
+                             : std::numeric_limits<double>::quiet_NaN();
+      m.floor = 8.0 * kEps * (1.0 + exact->state(0.0).Omega.norm() * t_final);
+      m.seconds = seconds_since(t0);
+      m.detail = std::string(es.scene) + ", T = " + format("%g", t_final) + "; " + exact->description() +
+                 " against gsl-rk8pd on the quaternion model at rtol = atol = 1e-13" +
+                 (r.stats.ok() ? "" : ": " + r.stats.brief());
+      out.push_back(m);
+    }
     final_error_metrics(options,
                         {.group = "exact",
                          .scene = es.scene,
                          .h = h,
                          .steps = steps,
                          .t_final = t_final,
-                         .reference = [&exact](double t) { return exact->sample(t); },
+                         .reference = [&exact, &options](double t) {
+                           return exact->sample(reference_time(options, t));
+                         },
                          .against = exact->description()},
                         out);
   }
@@ -463,7 +588,7 @@ void literature_metrics(const ValidateOptions& options, std::vector<Metric>& out
                              "': write it again with validate --write-literature-references");
     }
     const LiteratureReference& ref = *found;
-    const Scene base = load_scene(options.scenes_dir / (std::string(ls.scene) + ".toml"));
+    const Scene base = load_named(options, ls.scene);
     const double h = base.horizon.h;
     const double T = base.horizon.t_final;
     if (std::abs(T - ref.t) > 1e-12 * T) {
@@ -480,7 +605,8 @@ void literature_metrics(const ValidateOptions& options, std::vector<Metric>& out
       Metric m;
       m.name = "literature/" + std::string(ls.scene) + "/closed-form";
       m.kind = MetricKind::RoundOff;
-      m.value = final_state_error(base.model, exact->sample(T), reference);
+      m.two_sided = true;
+      m.value = final_state_error(base.model, exact->sample(reference_time(options, T)), reference);
       m.floor = 8.0 * kEps * (1.0 + exact->state(0.0).Omega.norm() * T);
       m.detail = std::string(ls.scene) + ", T = " + format("%g", T) + "; " + exact->description() +
                  " against the stored reference (" + digits + ")";
@@ -802,6 +928,7 @@ std::string metric_group(const std::string& name) {
   for (const char* q : {"energy", "momentum", "orthogonality", "quaternion-norm", "newton"}) {
     if (first == q) return "conservation";
   }
+  if (first == "final") return "order";
   return first;
 }
 

@@ -88,13 +88,17 @@ const char* to_string(Verdict v) {
     case Verdict::Pass: return "pass";
     case Verdict::Regressed: return "REGRESSED";
     case Verdict::Improved: return "improved";
+    case Verdict::Changed: return "CHANGED";
     case Verdict::New: return "new";
     case Verdict::Missing: return "missing";
   }
   return "unknown";
 }
 
-Verdict judge(MetricKind kind, double accepted, double now, double floor, std::optional<double> nominal) {
+namespace {
+
+/// The rules of the kinds (validate.hpp), moves down being `improved`.
+Verdict judge_one_sided(MetricKind kind, double accepted, double now, double floor, std::optional<double> nominal) {
   if (!std::isfinite(now) || !std::isfinite(accepted)) {
     if (!std::isfinite(now) && !std::isfinite(accepted)) return Verdict::Pass;
     return std::isfinite(now) ? Verdict::Improved : Verdict::Regressed;
@@ -135,6 +139,47 @@ Verdict judge(MetricKind kind, double accepted, double now, double floor, std::o
   return Verdict::Regressed;
 }
 
+}  // namespace
+
+Verdict judge(MetricKind kind, double accepted, double now, double floor, std::optional<double> nominal,
+              bool two_sided) {
+  const Verdict one_sided = judge_one_sided(kind, accepted, now, floor, nominal);
+  return two_sided && one_sided == Verdict::Improved ? Verdict::Changed : one_sided;
+}
+
+const std::vector<DegradationInfo>& degradations() {
+  static const std::vector<DegradationInfo> list = {
+      {Degradation::RotationUpdate, "rotation-update",
+       "the single-body LGVIs' rotation update with relative tolerance 1e-9 instead of 16 eps and no polishing step",
+       "conservation: energy, momentum and Newton counts of the single-body LGVIs (the badly conditioned body's most)"},
+      {Degradation::ExactReference, "exact-reference",
+       "the closed forms (free body, Lagrange top, literature problems) evaluated at t (1 - 1e-9): a reference "
+       "drifting in phase, which lowers some methods' errors",
+       "exact and literature: the closed forms against gsl-rk8pd and the stored references, and the methods' "
+       "errors (two-sided)"},
+      {Degradation::ControlTiming, "control-timing",
+       "every scene control late by one step, u(t - h): the impulses of both LGVI forms misplaced by one step",
+       "order and final-state metrics of the controlled scenes (every system, both forms)"},
+      {Degradation::UncompensatedAttitude, "uncompensated-attitude",
+       "the cart-pendulum LGVI's attitude sum R_k + R_k (F - I) without its compensation",
+       "conservation: orthogonality of the cart-pendulum's LGVIs (floor 4 eps: a bounded error)"},
+  };
+  return list;
+}
+
+Degradation parse_degradation(const std::string& name) {
+  std::string known;
+  for (const DegradationInfo& d : degradations()) {
+    if (name == d.name) return d.id;
+    known += (known.empty() ? "" : ", ") + std::string(d.name);
+  }
+  throw InvalidInput("--degrade", "unknown degradation '" + name + "' (known: " + known + ")");
+}
+
+bool ValidateOptions::degrades(Degradation d) const {
+  return std::find(degraded.begin(), degraded.end(), d) != degraded.end();
+}
+
 fs::path default_accepted_file(bool quick) {
   return data_dir("validation", "validation") / (quick ? "accepted-quick.txt" : "accepted-full.txt");
 }
@@ -156,13 +201,17 @@ fs::path accept_destination(const fs::path& given, bool quick) {
 
 // File format: '#' comment lines, "# accepted_at: DESCRIBE", "# form: quick|full", then one
 // line per metric "NAME KIND VALUE", sorted by name. Names contain no blanks.
-AcceptedFile read_accepted(const fs::path& file) {
+AcceptedFile read_accepted(const fs::path& file, bool missing_is_empty) {
   AcceptedFile a;
-  std::ifstream in(file);
-  if (!in) {
-    if (fs::exists(file)) throw InvalidInput(file.string(), "cannot be read");
-    return a;
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
+    if (missing_is_empty) return a;
+    throw InvalidInput(file.string(), "does not exist (the accepted values to compare with: validation/accepted-quick.txt "
+                                      "or accepted-full.txt, or a file written by validate --accept --accepted FILE)");
   }
+  if (!fs::is_regular_file(file, ec)) throw InvalidInput(file.string(), "is not a regular file");
+  std::ifstream in(file);
+  if (!in) throw InvalidInput(file.string(), "cannot be read");
   std::string line;
   int n = 0;
   while (std::getline(in, line)) {
@@ -227,7 +276,7 @@ ValidateReport compare(const std::vector<Metric>& metrics, const AcceptedFile& a
       c.verdict = Verdict::New;
     } else {
       c.accepted = it->second.value;
-      c.verdict = judge(m.kind, it->second.value, m.value, m.floor, m.nominal);
+      c.verdict = judge(m.kind, it->second.value, m.value, m.floor, m.nominal, m.two_sided);
     }
     seen.insert(m.name);
     r.rows.push_back(std::move(c));
@@ -250,6 +299,8 @@ std::size_t ValidateReport::count(Verdict v) const {
   return static_cast<std::size_t>(std::count_if(rows.begin(), rows.end(), [v](const auto& c) { return c.verdict == v; }));
 }
 
+std::size_t ValidateReport::gated() const { return rows.size() - count(Verdict::New) - count(Verdict::Missing); }
+
 namespace {
 
 std::string ratio_text(const MetricComparison& c) {
@@ -262,7 +313,8 @@ std::string ratio_text(const MetricComparison& c) {
 std::string summary_line(const ValidateReport& r) {
   std::ostringstream s;
   s << r.rows.size() << " metrics: " << r.count(Verdict::Pass) << " pass, " << r.count(Verdict::Regressed)
-    << " REGRESSED, " << r.count(Verdict::Improved) << " improved, " << r.count(Verdict::New) << " new, "
+    << " REGRESSED, " << r.count(Verdict::Changed) << " CHANGED, " << r.count(Verdict::Improved) << " improved, "
+    << r.count(Verdict::New) << " new, "
     << r.count(Verdict::Missing) << " missing";
   return s.str();
 }
@@ -284,12 +336,19 @@ void print_report(const ValidateReport& report, std::ostream& out) {
   }
   out << summary_line(report) << " (accepted at " << (report.accepted_at.empty() ? "-" : report.accepted_at)
       << ", now " << report.version << ")\n";
-  if (report.regressed()) {
+  if (report.count(Verdict::Regressed) + report.count(Verdict::Changed) > 0) {
     out << "regressed:";
     for (const auto& c : report.rows) {
-      if (c.verdict == Verdict::Regressed) out << " " << c.name;
+      if (c.verdict == Verdict::Regressed || c.verdict == Verdict::Changed) out << " " << c.name;
     }
     out << "\n";
+    out << "next: read each metric's detail (--json FILE), find the change that moved it; if the change is "
+           "intended, re-accept in the same commit with validate"
+        << (report.form == "quick" ? " --quick" : "") << " --accept and name the metrics in the commit message\n";
+  }
+  if (report.gated() == 0) {
+    out << "no metric has an accepted value (" << report.rows.size()
+        << " new): nothing was gated, so the gate fails; check --accepted and the form (--quick)\n";
   }
 }
 
@@ -307,6 +366,7 @@ void write_report_json(const ValidateReport& report, const fs::path& file) {
                   {"pass", report.count(Verdict::Pass)},
                   {"regressed", report.count(Verdict::Regressed)},
                   {"improved", report.count(Verdict::Improved)},
+                  {"changed", report.count(Verdict::Changed)},
                   {"new", report.count(Verdict::New)},
                   {"missing", report.count(Verdict::Missing)}};
   json rows = json::array();

@@ -30,9 +30,21 @@
 //               fewer: improved.
 //   condition   a condition number: its singular values move by round-off relative to the
 //               largest one; gated by a factor 10 (REGRESSED above, improved below).
+// Round-off floors follow how the error grows (metrics.cpp, round_off_floor): a quantity
+// rounded afresh each step random-walks, eps sqrt(N) after N steps; one whose rounding is
+// carried or removed each step (the cart-pendulum's compensated attitude sum, a quaternion
+// renormalized every step) stays bounded, 4 eps whatever N: a lost compensation or
+// renormalization then shows as a random walk, sqrt(N) = 100 times that floor at 10^4 steps.
+// Two-sided metrics: a metric that measures a reference as much as a method (an error against
+// an exact solution or a stored literature reference, the closed forms against a tight run)
+// fails when it moves beyond its band in either direction: `CHANGED` instead of `improved`.
+// A reference that drifts like the methods lowers their errors; only a reviewed --accept
+// takes such a move.
 // Metrics new since acceptance are `new`, accepted ones not computed now `missing`; neither
-// fails the gate (a metric that silently disappears is reported, and `--accept` drops it).
-// Timings are reported in their own column and never gated.
+// fails the gate by itself (a metric that silently disappears is reported, and `--accept`
+// drops it), but a run in which no metric has an accepted value gates nothing and fails
+// (a mistyped --accepted file must not pass). Timings are reported in their own column and
+// never gated.
 #pragma once
 
 #include <filesystem>
@@ -43,7 +55,7 @@
 #include <vector>
 
 #include "experiments/input/literature_references.hpp"
-#include "lgvi/rotation_update.hpp"
+#include "lgvi/inertia.hpp"  // InvalidInput
 
 namespace lgvi::experiments {
 
@@ -61,16 +73,22 @@ struct Metric {
   double floor = 0.0;                  ///< round-off kind: the floor of the metric (absolute)
   std::optional<double> nominal;       ///< order kind: the method's theoretical order
   std::optional<double> paper;         ///< the paper's value, where it reports one
+  /// The metric measures a reference as much as a method: a move beyond its band either way
+  /// fails (CHANGED), see the rule above.
+  bool two_sided = false;
   double seconds = 0.0;                ///< wall time to compute it (reported, never gated)
   std::string detail;                  ///< one line: what was run
 };
 
-enum class Verdict { Pass, Regressed, Improved, New, Missing };
+/// CHANGED: a two-sided metric moved beyond its band downwards (fails like REGRESSED).
+enum class Verdict { Pass, Regressed, Improved, Changed, New, Missing };
 const char* to_string(Verdict v);
 
 /// The verdict of `now` against `accepted` for a metric of `kind` (see the rules above). A
-/// non-finite value now (a failed run) is REGRESSED unless accepted was non-finite too.
-Verdict judge(MetricKind kind, double accepted, double now, double floor, std::optional<double> nominal);
+/// non-finite value now (a failed run) is REGRESSED unless accepted was non-finite too. A
+/// two-sided metric's `improved` is CHANGED.
+Verdict judge(MetricKind kind, double accepted, double now, double floor, std::optional<double> nominal,
+              bool two_sided = false);
 
 struct AcceptedValue {
   MetricKind kind = MetricKind::Truncation;
@@ -83,21 +101,42 @@ struct AcceptedFile {
   std::map<std::string, AcceptedValue> values;
 };
 
-/// Reads an accepted-values file. A missing file gives an empty set (every metric `new`).
-/// Throws InvalidInput("FILE: line N", ...) for a malformed line.
-AcceptedFile read_accepted(const std::filesystem::path& file);
+/// Reads an accepted-values file. A missing file is InvalidInput(FILE, "does not exist") unless
+/// `missing_is_empty` (--accept creating a new file: an empty set). Throws
+/// InvalidInput("FILE: line N", ...) for a malformed line.
+AcceptedFile read_accepted(const std::filesystem::path& file, bool missing_is_empty = false);
 /// Writes the metrics as the accepted set (sorted by name; values round-trip), atomically.
 void write_accepted(const std::filesystem::path& file, const std::vector<Metric>& metrics, const std::string& form,
                     const std::string& accepted_at);
+
+/// A defect `validate --degrade NAME` plants on purpose, to show that the gate catches its kind
+/// of bug (tests/validation/test_validate.cpp plants each and expects exit 4 naming the metrics
+/// that must catch it). The list and what each plants: degradations().
+enum class Degradation {
+  RotationUpdate,         ///< single-body LGVIs: rotation-update tolerance 1e-9, no polishing step
+  ExactReference,         ///< the closed forms evaluated at t (1 - 1e-9): a reference drifting in phase
+  ControlTiming,          ///< every scene control late by one step, u(t - h): a misplaced impulse
+  UncompensatedAttitude,  ///< the cart-pendulum LGVI's attitude sum without its compensation
+};
+struct DegradationInfo {
+  Degradation id;
+  const char* name;       ///< --degrade NAME
+  const char* plants;     ///< what it changes
+  const char* caught_by;  ///< the metrics that must fail
+};
+/// Every degradation, in the order of the enum.
+const std::vector<DegradationInfo>& degradations();
+/// Throws InvalidInput("--degrade", ...) naming the known ones.
+Degradation parse_degradation(const std::string& name);
 
 /// Options of a validate run.
 struct ValidateOptions {
   bool quick = false;
   std::vector<std::string> only;          ///< groups to run (empty: all)
   std::filesystem::path scenes_dir;
-  /// Applied to every single-body LGVI's rotation update. The gate's own test degrades it
-  /// (`--degraded-rotation-update`) to show that a degraded solver is caught.
-  RotationUpdateOptions rotation;
+  /// Defects planted on purpose (--degrade); never with --accept.
+  std::vector<Degradation> degraded;
+  bool degrades(Degradation d) const;
 };
 
 /// Metric groups, in the order they run: name and one-line description.
@@ -131,7 +170,10 @@ struct ValidateReport {
   std::string version;  ///< git describe now
   std::vector<MetricComparison> rows;  ///< sorted by name
   std::size_t count(Verdict v) const;
-  bool regressed() const { return count(Verdict::Regressed) > 0; }
+  /// Rows compared with an accepted value (neither new nor missing).
+  std::size_t gated() const;
+  /// The gate fails: a metric REGRESSED or CHANGED, or no metric had an accepted value.
+  bool failed() const { return count(Verdict::Regressed) + count(Verdict::Changed) > 0 || gated() == 0; }
 };
 
 /// Compares metrics with an accepted set. `groups` restricts which accepted metrics can be

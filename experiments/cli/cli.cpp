@@ -221,9 +221,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                            "Rewrite the accepted file (--accepted; in a source checkout, the default) with the values now "
                            "and print what changed (exit 0)");
     validate_cmd->add_option("--only", only_groups, groups_help)->delimiter(',');
-    validate_cmd->add_flag("--degraded-rotation-update", degraded,
-                           "Run the single-body LGVIs with a degraded rotation update (relative tolerance 1e-9 "
-                           "instead of 16 eps, no polishing step): shows that the gate catches it (exit 4)");
+    std::vector<std::string> degrade_names;
+    std::string degrade_help = "Plant these defects on purpose, to show that the gate catches them (exit 4):";
+    for (const DegradationInfo& d : degradations()) degrade_help += "\n  " + std::string(d.name) + ": " + d.plants;
+    validate_cmd->add_option("--degrade", degrade_names, degrade_help)->delimiter(',');
+    validate_cmd->add_flag("--degraded-rotation-update", degraded, "The same as --degrade rotation-update");
     std::string literature_out;
     validate_cmd->add_option("--write-literature-references", literature_out,
                              "Compute the literature problems' references again (closed forms at each scene's "
@@ -271,16 +273,14 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       options.quick = validate_quick;
       options.only = only_groups;
       options.scenes_dir = scenes_dir;
-      if (degraded) {
-        options.rotation.relative_tolerance = 1e-9;
-        options.rotation.polish = false;
-      }
-      if (accept && (!only_groups.empty() || degraded)) {
-        throw InvalidInput("--accept", "accepts the complete default set only (no --only, no --degraded-rotation-update)");
+      if (degraded) options.degraded.push_back(Degradation::RotationUpdate);
+      for (const std::string& name : degrade_names) options.degraded.push_back(parse_degradation(name));
+      if (accept && (!only_groups.empty() || !options.degraded.empty())) {
+        throw InvalidInput("--accept", "accepts the complete default set only (no --only, no --degrade)");
       }
       const fs::path file = accept ? accept_destination(accepted_file, validate_quick)
                             : accepted_file.empty() ? default_accepted_file(validate_quick) : fs::path(accepted_file);
-      const AcceptedFile before = read_accepted(file);
+      const AcceptedFile before = read_accepted(file, /*missing_is_empty=*/accept);
       const std::string form = validate_quick ? "quick" : "full";
       if (!before.form.empty() && before.form != form) {
         throw InvalidInput(file.string(), "holds the " + before.form + " form's values; this run is the " + form +
@@ -301,7 +301,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         for (const std::string& line : diff) out << "  " << line << "\n";
         return kExitOk;
       }
-      return result.regressed() ? kExitRegressed : kExitOk;
+      return result.failed() ? kExitRegressed : kExitOk;
     }
     if (merge_cmd->parsed()) {
       std::vector<fs::path> dirs(merge_shards_dirs.begin(), merge_shards_dirs.end());
@@ -374,7 +374,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       if (!check_against.empty()) {
         ValidateReport check = check_suite_against(options.out_dir, check_against, suite_name, quick);
         print_report(check, out);
-        if (check.regressed()) {
+        if (check.failed()) {
           return report(err, "suite " + suite_name + ": " + std::to_string(check.count(Verdict::Regressed)) +
                                  " metrics regressed against " + check_against, kExitRegressed);
         }

@@ -7,7 +7,8 @@
 
 namespace lgvi::experiments {
 
-Vec3 TimeControl::operator()(double t) const {
+Vec3 TimeControl::operator()(double t_now) const {
+  const double t = t_now - delay;
   switch (kind) {
     case Kind::Constant: return value;
     case Kind::PiecewiseLinear: return (*samples)(t);

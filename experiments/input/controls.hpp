@@ -24,6 +24,9 @@ struct TimeControl {
   Vec3 phase = Vec3::Zero();
   Vec3 value = Vec3::Zero();  ///< Constant
   std::shared_ptr<const baselines::SampledControl<3>> samples;  ///< PiecewiseLinear
+  /// The control is late by this much: u(t) is the law's value at t - delay. No scene key sets
+  /// it; `validate --degrade control-timing` does, to misplace every impulse by one step.
+  double delay = 0.0;
 
   Vec3 operator()(double t) const;
 };

@@ -73,6 +73,9 @@ struct AttitudeBinding {
     m.control.reset();
     m.feedback.reset();
   }
+  static void delay_controls(M& m, double dt) {
+    if (m.control) m.control->delay += dt;
+  }
   static bool controlled(const M& m) { return m.control || m.feedback; }
 
   /// The system's control u for the feedback moment tau(R, Omega): the free body's u is tau (a

@@ -60,6 +60,8 @@ struct SystemLabels {
 ///   printed_order(m)               nominal order of the printed LGVI form on this model: 1
 ///                                  where a potential or control acts at the step's end, else 2
 ///   drop_controls(m)               removes the scene's controls (an uncontrolled run)
+///   delay_controls(m, dt)          makes every open-loop control late by dt (validate's
+///                                  control-timing degradation)
 ///   labels()                       figure axis labels
 ///   units()                        the CSV's "units" metadata
 ///   run_lgvi(m, form, rotation, drive)      the LGVI flow map, initial state, control and
@@ -70,6 +72,8 @@ struct SystemLabels {
 ///                                  chart(mech, R, Omega, x, v) (baselines/mechanics.hpp)
 ///   from_chart(decoded, s)         a baseline's decoded state into a State
 /// and, where a suite needs them (the suite asks whether the binding has them):
+///   lgvi_attitude_compensated      constant true: the LGVI's attitude sum is compensated
+///                                  (validate's bounded orthogonality floor)
 ///   as_pendulum(m)                 the system as a Pendulum3D (sensitivity suite)
 ///   set_inertia(m, J)              replaces the body's inertia (extremes suite)
 /// A binding is a constrained partial specialization, `template <std::same_as<XModel> BoundModel>
@@ -101,6 +105,7 @@ concept SystemBindingOf = std::same_as<typename B::State, typename M::State> &&
   { B::initial_rate(m) } -> std::same_as<double>;
   { B::printed_order(m) } -> std::same_as<int>;
   B::drop_controls(edited);
+  B::delay_controls(edited, 1.0);
   { B::labels() } -> std::same_as<SystemLabels>;
   { B::units() } -> std::same_as<std::string>;
 };

@@ -31,6 +31,9 @@ struct SystemBinding<BoundModel> {
   using M = CartPendulumModel;
   using State = M::State;
   static constexpr bool single_body = false;
+  /// Its LGVI forms R_{k+1} = R_k + R_k (F - I) by a compensated sum: R stays on SO(3) to a
+  /// bounded few eps, not a random walk (validate's orthogonality floor).
+  static constexpr bool lgvi_attitude_compensated = true;
 
   /// [parameters]: cart_mass, mass, inertia, d, gravity; [initial]: R/quaternion/euler (default identity),
   /// Omega, q, q_dot; [control]: a 2-component sinusoid (the cart's forces u_x, u_y).
@@ -94,6 +97,9 @@ struct SystemBinding<BoundModel> {
   /// only through a control at the step's end.
   static int printed_order(const M& m) { return m.control ? 1 : 2; }
   static void drop_controls(M& m) { m.control.reset(); }
+  static void delay_controls(M& m, double dt) {
+    if (m.control) m.control->delay += dt;
+  }
   static std::string units() {
     return "t [s], R [1], Omega [rad/s], energy [J], momentum [kg m^2/s], x y [m], xdot ydot [m/s]";
   }
@@ -102,8 +108,10 @@ struct SystemBinding<BoundModel> {
   }
 
   template <class Drive>
-  static Stats run_lgvi(const M& m, LgviForm form, const RotationUpdateOptions& /*options*/, Drive&& drive) {
-    const CartPendulumLgvi lgvi(m.system, form);
+  static Stats run_lgvi(const M& m, LgviForm form, const RotationUpdateOptions& options, Drive&& drive) {
+    // Its Newton solver has its own options (GroupNewtonOptions); of the rotation update's it
+    // takes only how the attitude sum is formed.
+    const CartPendulumLgvi lgvi(m.system, form, GroupNewtonOptions{}, options.compensated_attitude);
     CartPendulumState state = lgvi.make_state(m.initial.R, m.initial.q, m.initial.Omega, m.initial.q_dot);
     const auto control = [&m](double t) -> Vec2 {
       if (!m.control) return Vec2::Zero();

@@ -103,6 +103,9 @@ struct SystemBinding<BoundModel> {
   /// end.
   static int printed_order(const M& m) { return m.control ? 1 : 2; }
   static void drop_controls(M& m) { m.control.reset(); }
+  static void delay_controls(M& m, double dt) {
+    if (m.control) m.control->delay += dt;
+  }
   static std::string units() { return "t [s], R [1], Omega [rad/s], energy [J], momentum [kg m^2/s]"; }
   static SystemLabels labels() { return {"time [s]", "|E - E_0| [J]", "|R_1 Π_1 + R_2 Π_2 - (...)_0| [kg m^2/s]", " s"}; }
 

@@ -103,6 +103,10 @@ struct SystemBinding<BoundModel> {
     m.force_control.reset();
     m.moment_control.reset();
   }
+  static void delay_controls(M& m, double dt) {
+    if (m.force_control) m.force_control->delay += dt;
+    if (m.moment_control) m.moment_control->delay += dt;
+  }
   static std::string units() {
     return "normalized: mass 1, reference orbit radius 1, mu = 1 (period 2 pi); t, x, v, Omega, energy, "
            "momentum in these units";

@@ -244,3 +244,26 @@ TYPED_TEST(MultibodyTest, TwoBodiesAndCoordinatesInMomentumForm) {
 
 }  // namespace
 }  // namespace lgvi::test
+
+namespace lgvi::test {
+namespace {
+
+// The renormalized model's record of | |q| - 1 | is the solver's state's, taken before decode
+// normalizes the quaternion for R: a solver that skipped the renormalization between steps would
+// otherwise be recorded at round-off (validate's quaternion-norm metric could not see it).
+TEST(RenormalizedModel, DecodeRecordsTheNormOfTheStateBeforeNormalizing) {
+  using Mech = baselines::AttitudeMechanics<FreeRigidBody>;
+  const FreeRigidBody body = free_body();
+  const Mech mech(body, {});
+  const CoordinateOde<QuaternionChart, Mech> renormalized(mech, true), plain(mech);
+  auto y = renormalized.initial_state({free_body_R0()}, {free_body_Omega0()});
+  y.head<4>() *= 1.0 + 1e-6;  // a quaternion one un-renormalized drift away from the sphere
+  const auto d = renormalized.decode(y.data());
+  EXPECT_NEAR(d.quaternion_norm_error[0], 1e-6, 1e-15);
+  EXPECT_EQ(d.quaternion_norm_error[0], plain.decode(y.data()).quaternion_norm_error[0]);
+  // R is still the normalized quaternion's: orthogonal to round-off.
+  EXPECT_LT(so3::orthogonality_error(d.config.R[0]), roundoff(1.0, 4));
+}
+
+}  // namespace
+}  // namespace lgvi::test

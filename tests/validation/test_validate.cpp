@@ -1,5 +1,6 @@
 // The regression gate: the kinds' rules, the accepted file, and that the gate fails (exit 4,
-// named metrics) when the rotation update is degraded, and `suite --check-against` likewise.
+// named metrics) on every planted defect (validate --degrade), and `suite --check-against` likewise.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -50,6 +51,43 @@ TEST(ValidateJudge, CostCountAndCondition) {
   EXPECT_EQ(judge(MetricKind::Condition, 100, 1100, 0, {}), Verdict::Regressed);
 }
 
+// A two-sided metric (it measures a reference as much as a method) fails when it moves down
+// beyond its band: a reference drifting like the methods lowers their errors.
+TEST(ValidateJudge, TwoSidedMetricsFailWhenTheyMoveDown) {
+  EXPECT_EQ(judge(MetricKind::Truncation, 1e-6, 0.5e-6, 0, {}, true), Verdict::Changed);
+  EXPECT_EQ(judge(MetricKind::Truncation, 1e-6, 2e-6, 0, {}, true), Verdict::Regressed);
+  EXPECT_EQ(judge(MetricKind::Truncation, 1e-6, 1e-6 * (1 + 0.9e-6), 0, {}, true), Verdict::Pass);
+  EXPECT_EQ(judge(MetricKind::RoundOff, 1e-12, 9e-14, 1e-14, {}, true), Verdict::Changed);
+  EXPECT_EQ(judge(MetricKind::RoundOff, 2e-15, 1e-16, 1e-14, {}, true), Verdict::Pass);  // at the floor
+  std::vector<Metric> metrics(1);
+  metrics[0] = {"exact/a/lgvi", MetricKind::Truncation, 0.5e-6, 0, {}, {}, true, 0, ""};
+  AcceptedFile accepted;
+  accepted.values["exact/a/lgvi"] = {MetricKind::Truncation, 1e-6};
+  const ValidateReport r = compare(metrics, accepted, {});
+  EXPECT_EQ(r.count(Verdict::Changed), 1u);
+  EXPECT_TRUE(r.failed());
+}
+
+// A comparison in which no metric has an accepted value gates nothing: it fails (a mistyped
+// --accepted file must not pass), and a missing accepted file is bad input.
+TEST(ValidateAcceptedFile, NothingAcceptedFailsAndAMissingFileIsAnError) {
+  std::vector<Metric> metrics(1);
+  metrics[0] = {"energy/a/lgvi", MetricKind::Truncation, 1e-7, 0, {}, {}, false, 0, ""};
+  const ValidateReport r = compare(metrics, AcceptedFile{}, {});
+  EXPECT_EQ(r.count(Verdict::New), 1u);
+  EXPECT_EQ(r.gated(), 0u);
+  EXPECT_TRUE(r.failed());
+  TempDir dir;
+  EXPECT_THROW(read_accepted(dir.work() / "no-such-file.txt"), InvalidInput);
+  EXPECT_TRUE(read_accepted(dir.work() / "no-such-file.txt", true).values.empty());
+  EXPECT_THROW(read_accepted("/dev/null"), InvalidInput);  // not a regular file
+  for (const std::string file : {"no-such-file.txt", "/dev/zero"}) {
+    const test::CliResult cli = test::run_testbed(dir, {"validate", "--quick", "--only", "order", "--accepted", file});
+    EXPECT_EQ(cli.exit_code, kExitBadInput) << file << ": " << cli.out << cli.err;
+    EXPECT_NE(cli.err.find(file), std::string::npos) << cli.err;
+  }
+}
+
 TEST(ValidateJudge, AFailedRunRegresses) {
   EXPECT_EQ(judge(MetricKind::Truncation, 1e-6, kNan, 0, {}), Verdict::Regressed);
   EXPECT_EQ(judge(MetricKind::Order, 2.0, kNan, 0, 2.0), Verdict::Regressed);
@@ -60,9 +98,9 @@ TEST(ValidateAcceptedFile, RoundTripsSortedAndReportsChanges) {
   TempDir dir;
   const auto file = dir.work() / "accepted.txt";
   std::vector<Metric> metrics(3);
-  metrics[0] = {"order/b/lgvi", MetricKind::Order, 2.0012345678901234, 0, 2.0, {}, 0, ""};
-  metrics[1] = {"energy/a/lgvi", MetricKind::Truncation, 1.2345678901234567e-7, 0, {}, {}, 0, ""};
-  metrics[2] = {"momentum/a/lgvi", MetricKind::RoundOff, 3e-15, 1e-14, {}, {}, 0, ""};
+  metrics[0] = {"order/b/lgvi", MetricKind::Order, 2.0012345678901234, 0, 2.0, {}, false, 0, ""};
+  metrics[1] = {"energy/a/lgvi", MetricKind::Truncation, 1.2345678901234567e-7, 0, {}, {}, false, 0, ""};
+  metrics[2] = {"momentum/a/lgvi", MetricKind::RoundOff, 3e-15, 1e-14, {}, {}, false, 0, ""};
   write_accepted(file, metrics, "quick", "v1");
   const AcceptedFile a = read_accepted(file);
   EXPECT_EQ(a.accepted_at, "v1");
@@ -80,7 +118,7 @@ TEST(ValidateAcceptedFile, RoundTripsSortedAndReportsChanges) {
 
   metrics[1].value = 2e-7;
   metrics.pop_back();
-  metrics.push_back({"newton/a/lgvi", MetricKind::Count, 2.0, 0, {}, {}, 0, ""});
+  metrics.push_back({"newton/a/lgvi", MetricKind::Count, 2.0, 0, {}, {}, false, 0, ""});
   const std::vector<std::string> diff = accepted_diff(a, metrics);
   ASSERT_EQ(diff.size(), 3u);
   EXPECT_EQ(diff[0].substr(0, 2), "~ ");  // energy/a/lgvi changed
@@ -183,6 +221,78 @@ TEST(SuiteCheckAgainst, PassesOnItselfAndCatchesEditedValues) {
   EXPECT_EQ(other.exit_code, kExitBadInput) << other.out;
   EXPECT_NE(other.err.find("quick"), std::string::npos) << other.err;
 }
+
+}  // namespace
+}  // namespace lgvi::experiments
+
+namespace lgvi::experiments {
+namespace {
+
+// Each degradation (validate --degrade NAME) plants one blind spot of the gate on purpose; the gate
+// must fail (exit 4) and name the metrics that catch it. Every degradation has its case here.
+struct PlantedDefect {
+  const char* degrade;
+  const char* only;                 ///< the groups whose metrics catch it
+  std::vector<std::string> caught;  ///< each must be in the "regressed:" line
+};
+
+const std::vector<PlantedDefect>& planted_defects() {
+  static const std::vector<PlantedDefect> cases = {
+      // The badly conditioned body is where the rotation update's tolerance matters most (its
+      // Newton counts drop with the looser tolerance: `improved`, one-sided; the energy shows it).
+      {"rotation-update", "conservation",
+       {"energy/free-body/lgvi", "energy/ill-conditioned-body/lgvi", "energy/ill-conditioned-body/lgvi-yoshida4"}},
+      // The closed forms against the tight run and the stored references, and methods' errors
+      // that a drifting reference lowers (CHANGED, two-sided).
+      {"exact-reference", "exact,literature",
+       {"exact/free-body/closed-form", "exact/lagrange-top/closed-form", "literature/hlw-rigid-body/closed-form",
+        "literature/detest-b5/closed-form", "exact/lagrange-top/odeint-rk4-matrix"}},
+      // A misplaced impulse: the order of the symmetric forms drops to 1 on every controlled
+      // system (the cart-pendulum's symmetric control included), and the printed forms'
+      // final states move.
+      {"control-timing", "order",
+       {"order/cart-pendulum-controlled/lgvi", "order/free-body-controlled/lgvi", "order/dumbbell-controlled/lgvi",
+        "order/pendulum-controlled/lgvi", "order/connected-bodies/lgvi", "final/cart-pendulum-controlled/lgvi-printed",
+        "final/free-body-controlled/lgvi-printed", "final/dumbbell-controlled/lgvi-printed",
+        "final/pendulum-controlled/lgvi-printed"}},
+      // The cart-pendulum's attitude random-walks off SO(3): above its bounded floor.
+      {"uncompensated-attitude", "conservation", {"orthogonality/cart-pendulum/lgvi"}},
+  };
+  return cases;
+}
+
+TEST(ValidateMutation, EveryDegradationHasAPlantedCase) {
+  for (const DegradationInfo& d : degradations()) {
+    const bool found = std::any_of(planted_defects().begin(), planted_defects().end(),
+                                   [&](const PlantedDefect& p) { return std::string(p.degrade) == d.name; });
+    EXPECT_TRUE(found) << d.name << " has no planted case";
+  }
+  EXPECT_THROW(parse_degradation("nonsense"), InvalidInput);
+}
+
+class ValidateMutationCase : public ::testing::TestWithParam<PlantedDefect> {};
+
+TEST_P(ValidateMutationCase, TheGateFailsAndNamesTheMetricsThatCatchIt) {
+  const PlantedDefect& p = GetParam();
+  TempDir dir;
+  const test::CliResult r = test::run_testbed(dir, {"validate", "--quick", "--only", p.only, "--degrade", p.degrade});
+  EXPECT_EQ(r.exit_code, kExitRegressed) << r.out << r.err;
+  const auto line = r.out.find("regressed:");
+  ASSERT_NE(line, std::string::npos) << r.out;
+  const std::string names = r.out.substr(line, r.out.find('\n', line) - line) + " ";
+  for (const std::string& metric : p.caught) {
+    EXPECT_NE(names.find(" " + metric + " "), std::string::npos) << p.degrade << ": " << metric << " not caught in "
+                                                                 << names;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Planted, ValidateMutationCase, ::testing::ValuesIn(planted_defects()), [](const auto& info) {
+  std::string n = info.param.degrade;
+  for (char& ch : n) {
+    if (ch == '-') ch = '_';
+  }
+  return n;
+});
 
 }  // namespace
 }  // namespace lgvi::experiments
