@@ -8,6 +8,8 @@
 
 namespace lgvi::experiments {
 
+class TempPath;
+
 /// The gnuplot scripts compiled in: <source>/experiments/plots.
 std::filesystem::path default_plots_dir();
 /// The gnuplot executable found at configure time.
@@ -50,8 +52,14 @@ void render_plot(const std::string& gnuplot, const std::filesystem::path& script
 /// Runs `gnuplot -c script OUT args...` the same way (OUT a temporary renamed onto `png`). Paths
 /// among `args` must come from gnuplot_path() (the scripts read them as file names).
 /// gnuplot -c passes at most 9 arguments: scripts with many curves take a curve-list file.
+/// The temporaries the script reads (a curve list, a data file: `inputs`) are named in `args`
+/// (and in each other) by their TempPath::fd_path(); their descriptors are inherited by gnuplot,
+/// which so reads the files this process wrote whatever happens to their names meanwhile. The
+/// figure's temporary and gnuplot's log are handed over the same way: no file gnuplot opens can
+/// be swapped for a symlink by someone who can write in the output directory.
 /// Throws OutputError.
 void run_gnuplot_script(const std::string& gnuplot, const std::filesystem::path& script,
-                        const std::filesystem::path& png, const std::vector<std::string>& args);
+                        const std::filesystem::path& png, const std::vector<std::string>& args,
+                        const std::vector<const TempPath*>& inputs = {});
 
 }  // namespace lgvi::experiments

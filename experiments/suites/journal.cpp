@@ -1,6 +1,7 @@
 #include "experiments/suites/journal.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -192,8 +193,23 @@ std::string entry_line(const JournalEntry& e) {
 }  // namespace
 
 JournalWriter::JournalWriter(const fs::path& out_dir, bool truncate) : path_(journal_path(out_dir)) {
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | (truncate ? O_TRUNC : 0), 0644);
-  if (fd_ < 0) throw OutputError(path_.string() + ": cannot open the suite journal: " + std::strerror(errno));
+  // A new journal is created empty through a temporary renamed onto the name (which replaces a
+  // symlink planted there instead of truncating what it points to); the journal is then opened
+  // without following a symlink (O_NOFOLLOW) and must be a regular file with one link (not a
+  // hard link to another file), so appends go into this run's journal only.
+  if (truncate) rewrite_journal(out_dir, {});
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_NOFOLLOW | O_CLOEXEC);
+  if (fd_ < 0) {
+    const int err = errno;
+    throw OutputError(path_.string() + ": cannot open the suite journal: " +
+                      (err == ELOOP ? std::string("is a symbolic link") : std::strerror(err)));
+  }
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode) || st.st_nlink != 1) {
+    ::close(fd_);
+    fd_ = -1;
+    throw OutputError(path_.string() + ": cannot open the suite journal: not a regular file with a single link");
+  }
 }
 
 JournalWriter::~JournalWriter() {
