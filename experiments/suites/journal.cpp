@@ -164,8 +164,34 @@ std::vector<FileDigest> digest_case_files(const fs::path& out_dir, const std::st
   return files;
 }
 
+std::string case_file_name_problem(const fs::path& dir, const std::string& name, bool check_last) {
+  if (name.empty()) return "is empty";
+  if (name.find('\0') != std::string::npos) return "contains a NUL byte";
+  const fs::path rel(name);
+  if (rel.is_absolute() || rel.has_root_name() || rel.has_root_directory()) return "is an absolute path";
+  std::vector<fs::path> parts(rel.begin(), rel.end());
+  for (const fs::path& part : parts) {
+    if (part == "..") return "has a '..' component";
+    if (part.empty() || part == ".") return "has an empty or '.' component";
+  }
+  fs::path at = dir;
+  fs::path shown;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    at /= parts[i];
+    shown /= parts[i];
+    if (i + 1 == parts.size() && !check_last) break;
+    struct stat st {};
+    if (::lstat(at.c_str(), &st) != 0) break;  // missing from here on: verify_files says so
+    if (S_ISLNK(st.st_mode)) return "has a component that is a symbolic link ('" + shown.string() + "')";
+  }
+  return "";
+}
+
 std::string verify_files(const fs::path& out_dir, const JournalEntry& e) {
   for (const FileDigest& d : e.files) {
+    if (const std::string why = case_file_name_problem(out_dir, d.path); !why.empty()) {
+      return "the recorded file '" + d.path + "' " + why;
+    }
     const fs::path p = out_dir / d.path;
     std::error_code ec;
     const std::uintmax_t size = fs::file_size(p, ec);

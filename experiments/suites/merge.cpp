@@ -145,6 +145,13 @@ void merge_shards(const fs::path& out_dir, const std::vector<fs::path>& shard_di
       if (at->second.fingerprint != first.fingerprint) {
         throw InvalidInput(journal_path(dir).string(), at->second.id + " was recorded by another run");
       }
+      // The journal is data: each file it names must be a name inside the shard.
+      for (const FileDigest& d : at->second.files) {
+        if (const std::string why = case_file_name_problem(dir, d.path); !why.empty()) {
+          throw InvalidInput(journal_path(dir).string(), "case " + at->second.id + ": the file '" + d.path + "' " +
+                                                             why + " (a case's files are names inside its shard)");
+        }
+      }
       if (const std::string why = verify_files(dir, at->second); !why.empty()) {
         throw InvalidInput(dir.string(), at->second.id + ": " + why);
       }
@@ -163,6 +170,11 @@ void merge_shards(const fs::path& out_dir, const std::vector<fs::path>& shard_di
       const fs::path target = out_dir / d.path;
       fs::create_directories(target.parent_path(), ec);
       if (ec) throw OutputError(target.parent_path().string() + ": cannot create the directory: " + ec.message());
+      // Nor may a directory on the way in OUT be a symbolic link (one planted there would lead the
+      // file elsewhere); a link at the target itself is replaced by the rename.
+      if (const std::string why = case_file_name_problem(out_dir, d.path, /*check_last=*/false); !why.empty()) {
+        throw OutputError(target.string() + ": " + why + " in the output directory");
+      }
       TempPath temp(target);
       copy_into(temp, *source[item.first] / d.path);
       if (file_fnv1a64(temp.fd_path()) != d.fnv1a64) throw OutputError(target.string() + ": the copy differs from its source");
