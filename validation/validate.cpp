@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "experiments/input/read_file.hpp"
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/data_dir.hpp"
 #include "experiments/output/fields.hpp"
@@ -158,11 +159,10 @@ fs::path accept_destination(const fs::path& given, bool quick) {
 // line per metric "NAME KIND VALUE", sorted by name. Names contain no blanks.
 AcceptedFile read_accepted(const fs::path& file) {
   AcceptedFile a;
-  std::ifstream in(file);
-  if (!in) {
-    if (fs::exists(file)) throw InvalidInput(file.string(), "cannot be read");
-    return a;
-  }
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return a;
+  // A regular file of at most 64 MiB (read_file.hpp): a FIFO or a device is refused, not read.
+  std::istringstream in(read_regular_file(file, kMaxDataFileBytes, "the accepted values"));
   std::string line;
   int n = 0;
   while (std::getline(in, line)) {

@@ -8,11 +8,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "experiments/input/read_file.hpp"
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/scene/scene.hpp"
 #include "experiments/methods/simulate.hpp"
@@ -58,15 +58,29 @@ std::vector<fs::path> scene_inputs(const fs::path& scene_file) {
 std::string text_fnv1a64(const std::string& text) { return hex(fnv_update(kFnvOffset, text.data(), text.size())); }
 
 std::string file_fnv1a64(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return "";
+  // Regular files only (a FIFO would block, a device such as /dev/zero never end); the open
+  // never blocks.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return "";
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return "";
+  }
   std::uint64_t h = kFnvOffset;
   std::vector<char> buf(1 << 16);
-  while (in) {
-    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    h = fnv_update(h, buf.data(), static_cast<std::size_t>(in.gcount()));
+  for (;;) {
+    const ssize_t n = ::read(fd, buf.data(), buf.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      ::close(fd);
+      return "";
+    }
+    if (n == 0) break;
+    h = fnv_update(h, buf.data(), static_cast<std::size_t>(n));
   }
-  return in.bad() ? std::string() : hex(h);
+  ::close(fd);
+  return hex(h);
 }
 
 std::string suite_fingerprint(const Suite& suite, bool quick, const fs::path& scenes_dir) {
@@ -116,9 +130,11 @@ void write_manifest(const fs::path& out_dir, const SuiteManifest& m) {
 
 SuiteManifest read_manifest(const fs::path& out_dir) {
   const fs::path file = manifest_path(out_dir);
-  std::ifstream in(file);
-  if (!in) throw InvalidInput(file.string(), "cannot be read (not the output directory of a suite run?)");
-  const json j = json::parse(in, nullptr, false);
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
+    throw InvalidInput(file.string(), "cannot be read (not the output directory of a suite run?)");
+  }
+  const json j = json::parse(read_regular_file(file, kMaxTomlFileBytes, "the suite manifest"), nullptr, false);
   if (j.is_discarded() || !j.is_object()) throw InvalidInput(file.string(), "is not a JSON object");
   SuiteManifest m;
   try {
@@ -254,7 +270,10 @@ void JournalWriter::append(const JournalEntry& e) {
 
 std::map<std::size_t, JournalEntry> read_journal(const fs::path& out_dir) {
   std::map<std::size_t, JournalEntry> entries;
-  std::ifstream in(journal_path(out_dir));
+  const fs::path file = journal_path(out_dir);
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return entries;
+  std::istringstream in(read_regular_file(file, kMaxJournalFileBytes, "the suite journal"));
   std::string line;
   while (std::getline(in, line)) {
     const json j = json::parse(line, nullptr, false);

@@ -6,13 +6,14 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
+#include <sstream>
 #include <map>
 #include <set>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "experiments/input/read_file.hpp"
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/suites/suite.hpp"
 #include "experiments/suites/journal.hpp"
@@ -28,7 +29,7 @@ namespace {
 /// (without the last newline), checked.
 std::string header_of(const fs::path& shard_dir) {
   const fs::path file = shard_dir / "summary.csv";
-  std::ifstream in(file);
+  std::istringstream in(read_regular_file(file, kMaxJournalFileBytes, "the shard's summary"));
   std::string head;
   std::string line;
   bool more = in && std::getline(in, line);

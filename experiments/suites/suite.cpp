@@ -16,10 +16,12 @@
 #include <limits>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "experiments/input/read_file.hpp"
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/csv_writer.hpp"
 #include "experiments/scene/scene.hpp"
@@ -391,8 +393,12 @@ std::vector<double> expected_costs(const Suite& suite, const std::vector<std::si
 }  // namespace
 
 std::vector<SummaryRow> read_summary_csv(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw OutputError(file.string() + ": cannot read the suite summary");
+  std::istringstream in;
+  try {
+    in.str(read_regular_file(file, kMaxJournalFileBytes, "the suite summary"));
+  } catch (const UnreadableFile& e) {
+    throw OutputError(file.string() + ": cannot read the suite summary: " + e.reason());
+  }
   std::string line;
   bool more = static_cast<bool>(std::getline(in, line));
   std::size_t comment_lines = 0;  // the `# key: value` metadata before the header
