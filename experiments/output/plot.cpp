@@ -14,6 +14,7 @@
 
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/data_dir.hpp"
+#include "experiments/output/interrupt.hpp"
 
 extern char** environ;
 
@@ -121,6 +122,10 @@ void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, cons
   if (pid < 0) throw OutputError(png.string() + ": cannot run " + gnuplot + ": " + std::strerror(errno));
   if (pid == 0) {
     if (prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || getppid() != parent) _exit(126);
+    // The caught SIGINT/SIGTERM are reset by exec; a mask the parent's threads set is not.
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);
     const int in = open("/dev/null", O_RDONLY | O_CLOEXEC);
     const int out_fd = open("/dev/null", O_WRONLY | O_CLOEXEC);
     if (in < 0 || out_fd < 0 || dup2(in, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(log_fd, 2) < 0) _exit(126);
@@ -132,9 +137,38 @@ void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, cons
     (void)!write(2, msg, sizeof msg - 1);
     _exit(127);
   }
+  // Waits in steps of 5 ms, watching for SIGINT/SIGTERM (interrupt.hpp): then gnuplot is ended
+  // (SIGTERM, SIGKILL after a second), reaped, and Interrupted thrown; the temporaries (the
+  // unfinished figure, the log, the inputs) are removed on the way out.
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw OutputError(png.string() + ": waiting for gnuplot: " + std::strerror(errno));
+  int interrupted_by = 0;
+  const auto reap = [&](int options) {
+    for (;;) {
+      const pid_t r = waitpid(pid, &status, options);
+      if (r >= 0 || errno != EINTR) return r;
+    }
+  };
+  for (;;) {
+    const pid_t r = reap(WNOHANG);
+    if (r == pid) break;
+    if (r < 0) throw OutputError(png.string() + ": waiting for gnuplot: " + std::strerror(errno));
+    if (const int signo = interrupt_signal(); signo != 0) {
+      interrupted_by = signo;
+      kill(pid, SIGTERM);
+      for (int i = 0; i < 200 && reap(WNOHANG) == 0; ++i) usleep(5000);
+      if (reap(WNOHANG) == 0) {
+        kill(pid, SIGKILL);
+        (void)reap(0);
+      }
+      break;
+    }
+    usleep(5000);
+  }
+  // A signal to the whole process group (Ctrl-C) reaches gnuplot too: it dies of it, and this
+  // process's handler has recorded it by the time the child's death is seen.
+  if (interrupted_by == 0) interrupted_by = interrupt_signal();
+  if (interrupted_by != 0) {
+    throw Interrupted(interrupted_by, "gnuplot stopped while drawing " + png.string() + " (no figure written)");
   }
   const bool exited_ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
   if (!exited_ok) {
@@ -147,6 +181,7 @@ void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, cons
                       " exited 0 but wrote an incomplete PNG (" + std::to_string(size) +
                       " bytes, no IEND chunk: disk full?)");
   }
+  throw_if_interrupted("after gnuplot drew " + png.string() + " (not published)");
   out.commit();
 }
 
