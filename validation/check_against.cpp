@@ -3,11 +3,12 @@
 #include "validation/check_against.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <map>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "experiments/input/read_file.hpp"
 #include "lgvi/inertia.hpp"
 
 namespace lgvi::experiments {
@@ -21,8 +22,11 @@ using Row = nlohmann::json;
 /// Rows of a summary.jsonl by case id. Throws InvalidInput naming the file and line.
 std::map<std::string, Row> read_rows(const fs::path& dir) {
   const fs::path file = dir / "summary.jsonl";
-  std::ifstream in(file);
-  if (!in) throw InvalidInput(file.string(), "cannot be read (run the suite with --out " + dir.string() + " first)");
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
+    throw InvalidInput(file.string(), "cannot be read (run the suite with --out " + dir.string() + " first)");
+  }
+  std::istringstream in(read_regular_file(file, kMaxJournalFileBytes, "the suite summary"));
   std::map<std::string, Row> rows;
   std::string line;
   int n = 0;

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "experiments/input/read_file.hpp"
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/data_dir.hpp"
 #include "experiments/output/fields.hpp"
@@ -209,9 +210,8 @@ AcceptedFile read_accepted(const fs::path& file, bool missing_is_empty) {
     throw InvalidInput(file.string(), "does not exist (the accepted values to compare with: validation/accepted-quick.txt "
                                       "or accepted-full.txt, or a file written by validate --accept --accepted FILE)");
   }
-  if (!fs::is_regular_file(file, ec)) throw InvalidInput(file.string(), "is not a regular file");
-  std::ifstream in(file);
-  if (!in) throw InvalidInput(file.string(), "cannot be read");
+  // A regular file of at most 64 MiB (read_file.hpp): a FIFO or a device is refused, not read.
+  std::istringstream in(read_regular_file(file, kMaxDataFileBytes, "the accepted values"));
   std::string line;
   int n = 0;
   while (std::getline(in, line)) {

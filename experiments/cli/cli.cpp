@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "experiments/output/atomic_file.hpp"
+#include "experiments/output/interrupt.hpp"
 #include "validation/check_against.hpp"
 #include "experiments/ocp/figures_command.hpp"
 #include "experiments/suites/merge.hpp"
@@ -92,7 +93,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         "  gimbal lock; the CSV of the completed steps is written), or a suite case did not end as expected;\n"
         "3 results could not be written (file system, gnuplot);\n"
         "4 validate or suite --check-against: a metric regressed against its accepted value;\n"
-        "130, 143 suite interrupted by SIGINT, SIGTERM (the finished cases' summaries written; --resume).");
+        "130, 143 interrupted by SIGINT, SIGTERM (no temporary left; a suite writes the finished cases'\n"
+        "  summaries: --resume).");
     std::string scenes_dir = default_scenes_dir().string();
     app.add_option("--scenes-dir", scenes_dir, "Directory of the named scenes (NAME.toml)")->capture_default_str();
 
@@ -252,6 +254,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       return report(err, std::string(e.what()) + " (see lgvi-testbed --help)", kExitBadInput);
     }
     const std::string command_line = quote_command_line(argc, argv);
+    // SIGINT/SIGTERM during any command (interrupt.hpp): a phase that checks stops and throws
+    // Interrupted (caught below); any other is ended by the watchdog. Exit status 128 + signal.
+    const InterruptScope interrupt_scope;
 
     if (scenes_cmd->parsed()) return list_scenes(scenes_dir, out);
     if (validate_cmd->parsed() && !literature_out.empty()) {
@@ -328,7 +333,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       const std::unique_ptr<Method> method = method_kind.make(method_options);
       const Scene scene = load_scene(resolve_scene(scene_arg, scenes_dir), overrides);
       const fs::path csv = csv_out.empty() ? fs::path(scene.name + ".csv") : fs::path(csv_out);
-      const RunSummary summary = simulate(scene, *method, {csv, command_line, {}});
+      const RunSummary summary = simulate(scene, *method, {csv, command_line, {}, /*stop_on_interrupt=*/true});
       if (!summary.stats.ok()) {
         return report(err, scene.name + ": " + summary.stats.brief() + " (CSV of the completed steps: " +
                                csv.string() + ")",
@@ -392,6 +397,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       return kExitOk;
     }
     return report(err, "no subcommand (see lgvi-testbed --help)", kExitBadInput);
+  } catch (const Interrupted& e) {
+    remove_live_temporaries();  // those of objects not destroyed by the unwinding (none expected)
+    return report(err, e.what(), kExitInterrupted + e.signal());
   } catch (const SceneError& e) {
     return report(err, e.what(), kExitBadInput);
   } catch (const InvalidInput& e) {

@@ -13,6 +13,7 @@ enum ExitCode : int {
   kExitRunFailed = 2,   ///< a run stopped early (rotation update failed); its CSV is written
   kExitOutputError = 3, ///< results could not be written (file system, gnuplot) or internal error
   kExitRegressed = 4,   ///< validate / suite --check-against: a metric regressed against its accepted value
+  kExitInterrupted = 128,  ///< plus the signal: 130 SIGINT, 143 SIGTERM (interrupt.hpp)
 };
 
 /// Parses the arguments and runs the subcommand. Never throws: every error becomes exactly one

@@ -39,11 +39,7 @@ std::string quoted(const std::string& s) {
 
 std::vector<LiteratureReference> read_literature_references(const std::filesystem::path& file) {
   const std::string name = file.string();
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw SceneError(name, "", std::string("cannot read the literature references: ") + std::strerror(errno));
-  std::string text(kMaxSceneBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
+  const std::string text = read_toml_file(file, "the literature references");
   const TomlReader r(name);
   const toml::table doc = r.parse(text, "literature references");
   r.check_keys(doc, "", {"problem"});

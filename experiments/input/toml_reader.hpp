@@ -24,6 +24,7 @@
 
 #include <toml++/toml.h>
 
+#include "experiments/input/read_file.hpp"
 #include "experiments/input/scene_reader.hpp"
 #include "experiments/input/toml_text.hpp"
 #include "experiments/output/csv_writer.hpp"
@@ -88,6 +89,19 @@ inline std::string reason_of(const InvalidInput& e) {
   const std::string what = e.what();
   const std::string prefix = e.field() + ": ";
   return what.compare(0, prefix.size(), prefix) == 0 ? what.substr(prefix.size()) : what;
+}
+
+static_assert(kMaxTomlFileBytes == kMaxSceneBytes, "one limit on TOML input files");
+
+/// The text of a TOML input file: a regular file of at most 1 MiB (read_regular_file, which says
+/// why this limit). `what` names it: "the scene file". Throws SceneError(file, "", "cannot read
+/// WHAT: is a FIFO, not a regular file") and the like.
+inline std::string read_toml_file(const fs::path& file, std::string_view what) {
+  try {
+    return read_regular_file(file, kMaxTomlFileBytes, what);
+  } catch (const UnreadableFile& e) {
+    throw SceneError(file.string(), "", reason_of(e));
+  }
 }
 
 inline const char* type_name(const toml::node& n) {
@@ -383,12 +397,13 @@ class TomlReader {
   /// numbers with t strictly increasing, at least 2 rows. Errors name field and "FILE:LINE".
   std::shared_ptr<const baselines::SampledControl<3>> read_samples(const fs::path& path, const std::string& field,
                                                                    int dim) const {
-    std::ifstream in(path);
-    std::error_code ec;
-    if (!in || fs::is_directory(path, ec)) {
-      fail(field, "cannot read the control samples '" + path.string() + "': " +
-                      (fs::is_directory(path, ec) ? std::string("is a directory") : std::strerror(errno)));
+    std::string text;
+    try {
+      text = read_regular_file(path, kMaxDataFileBytes, "the control samples");
+    } catch (const UnreadableFile& e) {
+      fail(field, "cannot read the control samples '" + path.string() + "': " + e.reason());
     }
+    std::istringstream in(std::move(text));
     std::vector<double> times;
     std::vector<Vec3> values;
     std::string line;

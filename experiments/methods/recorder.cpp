@@ -8,6 +8,7 @@
 #include <span>
 
 #include "experiments/methods/simulate.hpp"
+#include "experiments/output/interrupt.hpp"
 #include "experiments/systems/systems.hpp"
 #include "lgvi/so3.hpp"
 
@@ -78,6 +79,10 @@ Recorder::Recorder(const Model& model, std::size_t output_every, CsvWriter* csv,
 }
 
 bool Recorder::record(std::size_t k, const Sample& s) {
+  if (stop_on_interrupt_ && interrupt_signal() != 0) [[unlikely]] {
+    interrupted_ = true;
+    return false;  // the method stops; stop_on_non_finite leaves its stats alone
+  }
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   // The system's energy, momentum map and attitude errors, and its state columns.

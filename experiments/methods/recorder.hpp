@@ -94,6 +94,11 @@ class Recorder {
   /// written, and the method stops the run (its observer returns false, then
   /// stop_on_non_finite names the step, time and quantity).
   bool record(std::size_t k, const Sample& sample);
+  /// With `on`, record() also refuses every sample once a SIGINT/SIGTERM was received
+  /// (interrupt_signal(), interrupt.hpp), so the method stops at its next row; interrupted() is
+  /// then true.
+  void stop_on_interrupt(bool on) { stop_on_interrupt_ = on; }
+  bool interrupted() const { return interrupted_; }
   /// When record() refused a sample: `stats` becomes NonFiniteState at that sample's step and
   /// time, failure_detail naming the column ("energy is not finite ..."). Otherwise unchanged.
   void stop_on_non_finite(Stats& stats) const;
@@ -128,6 +133,8 @@ class Recorder {
   std::size_t samples_ = 0;
   Sample last_;
   bool quaternion_column_ = false;
+  bool stop_on_interrupt_ = false;
+  bool interrupted_ = false;
   double seconds_ = 0.0;
 };
 

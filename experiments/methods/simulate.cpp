@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "experiments/output/csv_writer.hpp"
+#include "experiments/output/interrupt.hpp"
 
 namespace lgvi::experiments {
 
@@ -151,7 +152,13 @@ RunSummary simulate(const Scene& scene, const Method& method, const SimulateOpti
   check_output_space(options.csv, scene.horizon, columns.size());
   CsvWriter csv(options.csv, std::move(columns), leading);
   Recorder recorder(scene.model, scene.horizon.output_every, &csv, quaternion_column);
+  recorder.stop_on_interrupt(options.stop_on_interrupt);
   s.stats = method.run(scene, recorder);
+  if (recorder.interrupted()) {
+    // The CSV's temporary is removed as `csv` goes out of scope: no partial file is left.
+    throw Interrupted(interrupt_signal(), scene.name + ": stopped at t = " + std::to_string(recorder.last().t) +
+                                              " (no CSV written)");
+  }
   recorder.finish();
   s.diagnostics = recorder.diagnostics();
   s.recording_seconds = recorder.seconds();

@@ -35,6 +35,10 @@ struct SimulateOptions {
   std::filesystem::path csv;  ///< output file
   std::string command_line;   ///< recorded in the metadata
   Fields extra_metadata;      ///< appended to the metadata (e.g. a suite case's reference run)
+  /// On SIGINT/SIGTERM (interrupt_signal(), interrupt.hpp) stop at the next recorded row and
+  /// throw Interrupted, leaving no CSV: the simulate command. A suite's cases leave it off (the
+  /// runner stops between cases).
+  bool stop_on_interrupt = false;
 };
 
 /// Integrates `scene` with `method`, writing the CSV atomically (metadata, header, rows of
@@ -45,7 +49,7 @@ struct SimulateOptions {
 /// solver_steps (accepted steps: the LGVI's steps, or an adaptive solver's own, which do not
 /// depend on the output grid), rejected_steps and output_rows. A run stopped by a failure still
 /// writes its CSV (status in the metadata); check summary.stats.ok(). Throws OutputError if the
-/// CSV cannot be written (no file is left behind then).
+/// CSV cannot be written (no file is left behind then), Interrupted (options.stop_on_interrupt).
 RunSummary simulate(const Scene& scene, const Method& method, const SimulateOptions& options);
 
 /// `git describe --always --dirty` of the source tree at configure time, or "unknown".

@@ -1,5 +1,7 @@
 #include "experiments/output/csv_writer.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cassert>
@@ -191,14 +193,17 @@ void CsvWriter::commit(const Fields& closing) {
   file_.flush();
   AtomicFile out(target_);
   out.write(leading_ + closing_text + header_line(columns_));
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(file_.temp_path().c_str(), "rb"), &std::fclose);
-  if (!in || std::fseek(in.get(), rows_offset_, SEEK_SET) != 0) {
-    throw OutputError(target_.string() + ": cannot reread the rows: " + std::strerror(errno));
-  }
+  // Through the temporary's own descriptor (never reopened by name).
+  const int in = ::fileno(file_.stream());
   std::array<char, 1 << 16> buf;
-  std::size_t n = 0;
-  while ((n = std::fread(buf.data(), 1, buf.size(), in.get())) > 0) out.write(std::string_view(buf.data(), n));
-  if (std::ferror(in.get())) throw OutputError(target_.string() + ": cannot reread the rows");
+  for (off_t at = static_cast<off_t>(rows_offset_);;) {
+    const ssize_t n = ::pread(in, buf.data(), buf.size(), at);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw OutputError(target_.string() + ": cannot reread the rows: " + std::strerror(errno));
+    if (n == 0) break;
+    out.write(std::string_view(buf.data(), static_cast<std::size_t>(n)));
+    at += n;
+  }
   out.commit();
   file_.discard();
 }

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/data_dir.hpp"
+#include "experiments/output/interrupt.hpp"
 
 extern char** environ;
 
@@ -95,48 +97,91 @@ void render_plot(const std::string& gnuplot, const fs::path& script, const fs::p
 }
 
 void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, const fs::path& png,
-                        const std::vector<std::string>& script_args) {
+                        const std::vector<std::string>& script_args, const std::vector<const TempPath*>& inputs) {
   std::error_code ec;
   if (!fs::is_regular_file(script, ec)) throw OutputError(script.string() + ": gnuplot script not found");
+  // Both created here, exclusively (TempPath); gnuplot writes the figure through the inherited
+  // descriptor's /proc/self/fd name and its messages to the log as its standard error: it never
+  // opens a name in the output directory that someone else could have replaced.
   TempPath out(png);
   TempPath log(png.string() + ".log");
-  std::vector<std::string> args = {gnuplot, "-c", gnuplot_path(script), gnuplot_path(out.path())};
+  std::vector<std::string> args = {gnuplot, "-c", gnuplot_path(script), gnuplot_path(out.fd_path())};
   args.insert(args.end(), script_args.begin(), script_args.end());
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  std::vector<int> inherited = {out.fd()};
+  for (const TempPath* t : inputs) inherited.push_back(t->fd());
 
   // fork + exec rather than posix_spawn: the child asks the kernel for SIGTERM when this thread
   // (which waits for it below) dies, so killing the harness, even with SIGKILL, never leaves
   // gnuplot running. Between fork and exec the child calls async-signal-safe functions only.
-  const std::string log_path = log.path().string();
   const pid_t parent = ::getpid();
+  const int log_fd = log.fd();
   const pid_t pid = fork();
   if (pid < 0) throw OutputError(png.string() + ": cannot run " + gnuplot + ": " + std::strerror(errno));
   if (pid == 0) {
     if (prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || getppid() != parent) _exit(126);
-    const int in = open("/dev/null", O_RDONLY);
-    const int out_fd = open("/dev/null", O_WRONLY);
-    const int err_fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (in < 0 || out_fd < 0 || err_fd < 0 || dup2(in, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(126);
+    // The caught SIGINT/SIGTERM are reset by exec; a mask the parent's threads set is not.
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);
+    const int in = open("/dev/null", O_RDONLY | O_CLOEXEC);
+    const int out_fd = open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (in < 0 || out_fd < 0 || dup2(in, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(log_fd, 2) < 0) _exit(126);
+    for (const int fd : inherited) {
+      if (fcntl(fd, F_SETFD, 0) != 0) _exit(126);  // kept across exec: /proc/self/fd/N names it
+    }
     execve(gnuplot.c_str(), argv.data(), environ);
     const char msg[] = "cannot execute gnuplot\n";
     (void)!write(2, msg, sizeof msg - 1);
     _exit(127);
   }
+  // Waits in steps of 5 ms, watching for SIGINT/SIGTERM (interrupt.hpp): then gnuplot is ended
+  // (SIGTERM, SIGKILL after a second), reaped, and Interrupted thrown; the temporaries (the
+  // unfinished figure, the log, the inputs) are removed on the way out.
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw OutputError(png.string() + ": waiting for gnuplot: " + std::strerror(errno));
+  int interrupted_by = 0;
+  const auto reap = [&](int options) {
+    for (;;) {
+      const pid_t r = waitpid(pid, &status, options);
+      if (r >= 0 || errno != EINTR) return r;
+    }
+  };
+  for (;;) {
+    const pid_t r = reap(WNOHANG);
+    if (r == pid) break;
+    if (r < 0) throw OutputError(png.string() + ": waiting for gnuplot: " + std::strerror(errno));
+    if (const int signo = interrupt_signal(); signo != 0) {
+      interrupted_by = signo;
+      kill(pid, SIGTERM);
+      for (int i = 0; i < 200 && reap(WNOHANG) == 0; ++i) usleep(5000);
+      if (reap(WNOHANG) == 0) {
+        kill(pid, SIGKILL);
+        (void)reap(0);
+      }
+      break;
+    }
+    usleep(5000);
+  }
+  // A signal to the whole process group (Ctrl-C) reaches gnuplot too: it dies of it, and this
+  // process's handler has recorded it by the time the child's death is seen.
+  if (interrupted_by == 0) interrupted_by = interrupt_signal();
+  if (interrupted_by != 0) {
+    throw Interrupted(interrupted_by, "gnuplot stopped while drawing " + png.string() + " (no figure written)");
   }
   const bool exited_ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
   if (!exited_ok) {
-    throw OutputError(png.string() + ": gnuplot " + script.filename().string() + " failed: " + first_line(log.path()));
+    throw OutputError(png.string() + ": gnuplot " + script.filename().string() + " failed: " + first_line(log.fd_path()));
   }
-  if (!is_complete_png(out.path())) {
+  if (!is_complete_png(out.fd_path())) {
+    struct stat st {};
+    const long long size = fstat(out.fd(), &st) == 0 ? static_cast<long long>(st.st_size) : -1;
     throw OutputError(png.string() + ": gnuplot " + script.filename().string() +
-                      " exited 0 but wrote an incomplete PNG (" + std::to_string(fs::file_size(out.path(), ec)) +
+                      " exited 0 but wrote an incomplete PNG (" + std::to_string(size) +
                       " bytes, no IEND chunk: disk full?)");
   }
+  throw_if_interrupted("after gnuplot drew " + png.string() + " (not published)");
   out.commit();
 }
 

@@ -8,6 +8,8 @@
 
 namespace lgvi::experiments {
 
+class TempPath;
+
 /// The gnuplot scripts compiled in: <source>/experiments/plots.
 std::filesystem::path default_plots_dir();
 /// The gnuplot executable found at configure time.
@@ -42,7 +44,7 @@ struct Curve {
 /// `png`, renamed onto `png` when gnuplot exited 0 and wrote a complete PNG (is_complete_png).
 /// Paths are handed over as gnuplot_path(). gnuplot's stdout
 /// is discarded; its stderr is kept for the error message. Throws OutputError (first line of
-/// gnuplot's stderr) on failure, leaving no file.
+/// gnuplot's stderr) on failure, leaving no file; Interrupted (interrupt.hpp) on SIGINT/SIGTERM.
 void render_plot(const std::string& gnuplot, const std::filesystem::path& script,
                  const std::filesystem::path& png, const std::string& title, const std::string& xlabel,
                  const std::string& ylabel, const std::vector<Curve>& curves);
@@ -50,8 +52,15 @@ void render_plot(const std::string& gnuplot, const std::filesystem::path& script
 /// Runs `gnuplot -c script OUT args...` the same way (OUT a temporary renamed onto `png`). Paths
 /// among `args` must come from gnuplot_path() (the scripts read them as file names).
 /// gnuplot -c passes at most 9 arguments: scripts with many curves take a curve-list file.
-/// Throws OutputError.
+/// The temporaries the script reads (a curve list, a data file: `inputs`) are named in `args`
+/// (and in each other) by their TempPath::fd_path(); their descriptors are inherited by gnuplot,
+/// which so reads the files this process wrote whatever happens to their names meanwhile. The
+/// figure's temporary and gnuplot's log are handed over the same way: no file gnuplot opens can
+/// be swapped for a symlink by someone who can write in the output directory.
+/// SIGINT/SIGTERM (interrupt.hpp) while gnuplot runs: gnuplot is ended and reaped, nothing is
+/// published, and Interrupted is thrown. Throws OutputError.
 void run_gnuplot_script(const std::string& gnuplot, const std::filesystem::path& script,
-                        const std::filesystem::path& png, const std::vector<std::string>& args);
+                        const std::filesystem::path& png, const std::vector<std::string>& args,
+                        const std::vector<const TempPath*>& inputs = {});
 
 }  // namespace lgvi::experiments

@@ -195,21 +195,8 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
 }
 
 Scene parse_scene_file(const fs::path& file, const SceneOverrides& overrides) {
-  std::ifstream in(file, std::ios::binary);
-  std::error_code ec;
-  if (!in || fs::is_directory(file, ec)) {
-    const int err = errno;
-    throw SceneError(file.string(), "", std::string("cannot read the scene file: ") +
-                                            (fs::is_directory(file, ec) ? "is a directory" : std::strerror(err)));
-  }
-  // At most one byte past the limit: /dev/zero or a huge file is refused, not read whole.
-  std::string text(kMaxSceneBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) {
-    throw SceneError(file.string(), "", "cannot read the scene file: " + std::string(std::strerror(errno)));
-  }
-  return parse_scene(text, file, overrides);
+  // A regular file of at most 1 MiB: a FIFO or a device (/dev/zero) is refused, not read.
+  return parse_scene(read_toml_file(file, "the scene file"), file, overrides);
 }
 
 Scene load_scene(const fs::path& file, const SceneOverrides& overrides) {

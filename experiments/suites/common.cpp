@@ -110,17 +110,15 @@ SuiteCase simulate_case(const std::string& id, const std::string& group, Simulat
 namespace {
 
 /// The curve-list file the scripts load (gnuplot -c takes at most 9 arguments): n, file[i],
-/// label[i]. A temporary next to the figure, removed with `list`.
-void write_curve_list(const TempPath& list, const std::vector<Curve>& curves) {
+/// label[i]. Written into `list`, a temporary next to the figure (removed with it), which gnuplot
+/// reads through list.fd_path() (run_gnuplot_script).
+void write_curve_list(TempPath& list, const std::vector<Curve>& curves) {
   std::string text = "n = " + std::to_string(curves.size()) + "\narray file[n]\narray label[n]\n";
   for (std::size_t i = 0; i < curves.size(); ++i) {
     text += "file[" + std::to_string(i + 1) + "] = " + gnuplot_path_literal(curves[i].csv) + "\n";
     text += "label[" + std::to_string(i + 1) + "] = " + gnuplot_literal(curves[i].label) + "\n";
   }
-  std::FILE* f = std::fopen(list.path().c_str(), "w");
-  if (f == nullptr) throw OutputError(list.path().string() + ": cannot write the figure's curve list");
-  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  if (std::fclose(f) != 0 || !ok) throw OutputError(list.path().string() + ": cannot write the figure's curve list");
+  list.write(text);
 }
 
 }  // namespace
@@ -141,10 +139,12 @@ fs::path plot_time_series(const RenderContext& ctx, const std::string& png_name,
   }
   if (curves.empty()) return {};
   const fs::path png = ctx.out_dir / png_name;
-  const TempPath list(png.string() + ".curves");
+  TempPath list(png.string() + ".curves");
   write_curve_list(list, curves);
   run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "time_series.gp", png,
-                     {title, system_labels(system).time, ylabel, gnuplot_path(list.path()), column + (log_x ? ":logx" : "")});
+                     {title, system_labels(system).time, ylabel, gnuplot_path(list.fd_path()),
+                      column + (log_x ? ":logx" : "")},
+                     {&list});
   return png;
 }
 
@@ -161,10 +161,10 @@ fs::path plot_iterations(const RenderContext& ctx, const std::string& png_name, 
   }
   if (curves.empty()) return {};
   const fs::path png = ctx.out_dir / png_name;
-  const TempPath list(png.string() + ".curves");
+  TempPath list(png.string() + ".curves");
   write_curve_list(list, curves);
   run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "iteration_history.gp", png,
-                     {title, "outer (Newton) iteration", ylabel, gnuplot_path(list.path()), column});
+                     {title, "outer (Newton) iteration", ylabel, gnuplot_path(list.fd_path()), column}, {&list});
   return png;
 }
 
@@ -173,9 +173,9 @@ fs::path plot_xy(const RenderContext& ctx, const std::string& png_name, const st
   const fs::path png = ctx.out_dir / png_name;
   // The points go through a temporary data file (one gnuplot data block per curve), removed
   // afterwards: the figure is the output, the numbers are in summary.csv.
-  TempPath data(png.string() + ".dat");
   std::string text;
-  std::vector<Curve> args;
+  std::size_t blocks = 0;
+  std::vector<std::string> labels;
   for (const XyCurve& c : curves) {
     std::string block;
     for (const auto& [x, y] : c.points) {
@@ -186,18 +186,18 @@ fs::path plot_xy(const RenderContext& ctx, const std::string& png_name, const st
     }
     if (block.empty()) continue;
     text += block + "\n\n";
-    args.push_back({data.path(), c.label});
+    labels.push_back(c.label);
+    ++blocks;
   }
-  if (args.empty()) return {};
-  {
-    std::FILE* f = std::fopen(data.path().c_str(), "w");
-    if (f == nullptr) throw OutputError(data.path().string() + ": cannot write the figure's data");
-    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    if (std::fclose(f) != 0 || !ok) throw OutputError(data.path().string() + ": cannot write the figure's data");
-  }
-  const TempPath list(png.string() + ".curves");
+  if (blocks == 0) return {};
+  TempPath data(png.string() + ".dat");
+  data.write(text);
+  std::vector<Curve> args;
+  for (const std::string& label : labels) args.push_back({data.fd_path(), label});
+  TempPath list(png.string() + ".curves");
   write_curve_list(list, args);
-  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "xy_loglog.gp", png, {title, xlabel, ylabel, gnuplot_path(list.path())});
+  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "xy_loglog.gp", png,
+                     {title, xlabel, ylabel, gnuplot_path(list.fd_path())}, {&data, &list});
   return png;
 }
 

@@ -1,17 +1,18 @@
 #include "experiments/suites/journal.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "experiments/input/read_file.hpp"
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/scene/scene.hpp"
 #include "experiments/methods/simulate.hpp"
@@ -57,15 +58,29 @@ std::vector<fs::path> scene_inputs(const fs::path& scene_file) {
 std::string text_fnv1a64(const std::string& text) { return hex(fnv_update(kFnvOffset, text.data(), text.size())); }
 
 std::string file_fnv1a64(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return "";
+  // Regular files only (a FIFO would block, a device such as /dev/zero never end); the open
+  // never blocks.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return "";
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return "";
+  }
   std::uint64_t h = kFnvOffset;
   std::vector<char> buf(1 << 16);
-  while (in) {
-    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    h = fnv_update(h, buf.data(), static_cast<std::size_t>(in.gcount()));
+  for (;;) {
+    const ssize_t n = ::read(fd, buf.data(), buf.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      ::close(fd);
+      return "";
+    }
+    if (n == 0) break;
+    h = fnv_update(h, buf.data(), static_cast<std::size_t>(n));
   }
-  return in.bad() ? std::string() : hex(h);
+  ::close(fd);
+  return hex(h);
 }
 
 std::string suite_fingerprint(const Suite& suite, bool quick, const fs::path& scenes_dir) {
@@ -115,9 +130,11 @@ void write_manifest(const fs::path& out_dir, const SuiteManifest& m) {
 
 SuiteManifest read_manifest(const fs::path& out_dir) {
   const fs::path file = manifest_path(out_dir);
-  std::ifstream in(file);
-  if (!in) throw InvalidInput(file.string(), "cannot be read (not the output directory of a suite run?)");
-  const json j = json::parse(in, nullptr, false);
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
+    throw InvalidInput(file.string(), "cannot be read (not the output directory of a suite run?)");
+  }
+  const json j = json::parse(read_regular_file(file, kMaxTomlFileBytes, "the suite manifest"), nullptr, false);
   if (j.is_discarded() || !j.is_object()) throw InvalidInput(file.string(), "is not a JSON object");
   SuiteManifest m;
   try {
@@ -163,8 +180,34 @@ std::vector<FileDigest> digest_case_files(const fs::path& out_dir, const std::st
   return files;
 }
 
+std::string case_file_name_problem(const fs::path& dir, const std::string& name, bool check_last) {
+  if (name.empty()) return "is empty";
+  if (name.find('\0') != std::string::npos) return "contains a NUL byte";
+  const fs::path rel(name);
+  if (rel.is_absolute() || rel.has_root_name() || rel.has_root_directory()) return "is an absolute path";
+  std::vector<fs::path> parts(rel.begin(), rel.end());
+  for (const fs::path& part : parts) {
+    if (part == "..") return "has a '..' component";
+    if (part.empty() || part == ".") return "has an empty or '.' component";
+  }
+  fs::path at = dir;
+  fs::path shown;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    at /= parts[i];
+    shown /= parts[i];
+    if (i + 1 == parts.size() && !check_last) break;
+    struct stat st {};
+    if (::lstat(at.c_str(), &st) != 0) break;  // missing from here on: verify_files says so
+    if (S_ISLNK(st.st_mode)) return "has a component that is a symbolic link ('" + shown.string() + "')";
+  }
+  return "";
+}
+
 std::string verify_files(const fs::path& out_dir, const JournalEntry& e) {
   for (const FileDigest& d : e.files) {
+    if (const std::string why = case_file_name_problem(out_dir, d.path); !why.empty()) {
+      return "the recorded file '" + d.path + "' " + why;
+    }
     const fs::path p = out_dir / d.path;
     std::error_code ec;
     const std::uintmax_t size = fs::file_size(p, ec);
@@ -192,8 +235,23 @@ std::string entry_line(const JournalEntry& e) {
 }  // namespace
 
 JournalWriter::JournalWriter(const fs::path& out_dir, bool truncate) : path_(journal_path(out_dir)) {
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | (truncate ? O_TRUNC : 0), 0644);
-  if (fd_ < 0) throw OutputError(path_.string() + ": cannot open the suite journal: " + std::strerror(errno));
+  // A new journal is created empty through a temporary renamed onto the name (which replaces a
+  // symlink planted there instead of truncating what it points to); the journal is then opened
+  // without following a symlink (O_NOFOLLOW) and must be a regular file with one link (not a
+  // hard link to another file), so appends go into this run's journal only.
+  if (truncate) rewrite_journal(out_dir, {});
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_NOFOLLOW | O_CLOEXEC);
+  if (fd_ < 0) {
+    const int err = errno;
+    throw OutputError(path_.string() + ": cannot open the suite journal: " +
+                      (err == ELOOP ? std::string("is a symbolic link") : std::strerror(err)));
+  }
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode) || st.st_nlink != 1) {
+    ::close(fd_);
+    fd_ = -1;
+    throw OutputError(path_.string() + ": cannot open the suite journal: not a regular file with a single link");
+  }
 }
 
 JournalWriter::~JournalWriter() {
@@ -212,7 +270,10 @@ void JournalWriter::append(const JournalEntry& e) {
 
 std::map<std::size_t, JournalEntry> read_journal(const fs::path& out_dir) {
   std::map<std::size_t, JournalEntry> entries;
-  std::ifstream in(journal_path(out_dir));
+  const fs::path file = journal_path(out_dir);
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return entries;
+  std::istringstream in(read_regular_file(file, kMaxJournalFileBytes, "the suite journal"));
   std::string line;
   while (std::getline(in, line)) {
     const json j = json::parse(line, nullptr, false);

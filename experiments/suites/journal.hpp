@@ -89,8 +89,15 @@ struct JournalEntry {
 /// (csv_path, ...), relative to out_dir, that exist, with their digests.
 std::vector<FileDigest> digest_case_files(const std::filesystem::path& out_dir, const std::string& jsonl_line);
 
-/// Why `e`'s files do not verify under out_dir ("" when every one exists with its size and
-/// digest).
+/// Why `name`, a case's file as a journal records it, is not a name inside `dir` ("" when it
+/// is): it must be relative, with no "..", "." or empty component and no NUL byte, and no
+/// component of it that exists under `dir` may be a symbolic link (the last one not checked
+/// when `check_last` is false: a link at a target is replaced by the rename). A journal is
+/// data: a doctored one must not make `merge` or `--resume` read or write outside its directory.
+std::string case_file_name_problem(const std::filesystem::path& dir, const std::string& name, bool check_last = true);
+
+/// Why `e`'s files do not verify under out_dir ("" when every one is a name inside out_dir
+/// (case_file_name_problem) and exists with its size and digest).
 std::string verify_files(const std::filesystem::path& out_dir, const JournalEntry& e);
 
 /// Appends one entry with its completion marker by one write(2). Throws OutputError.

@@ -1,10 +1,19 @@
 #include "experiments/suites/merge.hpp"
 
-#include <fstream>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <sstream>
 #include <map>
 #include <set>
 #include <string>
+#include <string_view>
+#include <vector>
 
+#include "experiments/input/read_file.hpp"
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/suites/suite.hpp"
 #include "experiments/suites/journal.hpp"
@@ -20,7 +29,7 @@ namespace {
 /// (without the last newline), checked.
 std::string header_of(const fs::path& shard_dir) {
   const fs::path file = shard_dir / "summary.csv";
-  std::ifstream in(file);
+  std::istringstream in(read_regular_file(file, kMaxJournalFileBytes, "the shard's summary"));
   std::string head;
   std::string line;
   bool more = in && std::getline(in, line);
@@ -32,6 +41,39 @@ std::string header_of(const fs::path& shard_dir) {
     throw InvalidInput(file.string(), "shard 0's summary has no header line 'index,...'");
   }
   return head + line;
+}
+
+/// Copies the regular file `from` (never through a symlink at its name) into the temporary
+/// `to` (created exclusively: TempPath). Throws OutputError.
+void copy_into(TempPath& to, const fs::path& from) {
+  const auto fail = [&](const std::string& why) {
+    return OutputError(to.target().string() + ": cannot copy from " + from.string() + ": " + why);
+  };
+  const int in = ::open(from.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (in < 0) throw fail(errno == ELOOP ? std::string("is a symbolic link") : std::strerror(errno));
+  struct stat st {};
+  if (::fstat(in, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(in);
+    throw fail("not a regular file");
+  }
+  std::vector<char> buf(1 << 16);
+  for (;;) {
+    const ssize_t n = ::read(in, buf.data(), buf.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int err = errno;
+      ::close(in);
+      throw fail(std::strerror(err));
+    }
+    if (n == 0) break;
+    try {
+      to.write(std::string_view(buf.data(), static_cast<std::size_t>(n)));
+    } catch (...) {
+      ::close(in);
+      throw;
+    }
+  }
+  ::close(in);
 }
 
 /// Whether two paths name the same existing directory.
@@ -104,6 +146,13 @@ void merge_shards(const fs::path& out_dir, const std::vector<fs::path>& shard_di
       if (at->second.fingerprint != first.fingerprint) {
         throw InvalidInput(journal_path(dir).string(), at->second.id + " was recorded by another run");
       }
+      // The journal is data: each file it names must be a name inside the shard.
+      for (const FileDigest& d : at->second.files) {
+        if (const std::string why = case_file_name_problem(dir, d.path); !why.empty()) {
+          throw InvalidInput(journal_path(dir).string(), "case " + at->second.id + ": the file '" + d.path + "' " +
+                                                             why + " (a case's files are names inside its shard)");
+        }
+      }
       if (const std::string why = verify_files(dir, at->second); !why.empty()) {
         throw InvalidInput(dir.string(), at->second.id + ": " + why);
       }
@@ -122,10 +171,14 @@ void merge_shards(const fs::path& out_dir, const std::vector<fs::path>& shard_di
       const fs::path target = out_dir / d.path;
       fs::create_directories(target.parent_path(), ec);
       if (ec) throw OutputError(target.parent_path().string() + ": cannot create the directory: " + ec.message());
+      // Nor may a directory on the way in OUT be a symbolic link (one planted there would lead the
+      // file elsewhere); a link at the target itself is replaced by the rename.
+      if (const std::string why = case_file_name_problem(out_dir, d.path, /*check_last=*/false); !why.empty()) {
+        throw OutputError(target.string() + ": " + why + " in the output directory");
+      }
       TempPath temp(target);
-      fs::copy_file(*source[item.first] / d.path, temp.path(), ec);
-      if (ec) throw OutputError(target.string() + ": cannot copy from " + source[item.first]->string() + ": " + ec.message());
-      if (file_fnv1a64(temp.path()) != d.fnv1a64) throw OutputError(target.string() + ": the copy differs from its source");
+      copy_into(temp, *source[item.first] / d.path);
+      if (file_fnv1a64(temp.fd_path()) != d.fnv1a64) throw OutputError(target.string() + ": the copy differs from its source");
       temp.commit();
       ++copied;
     }

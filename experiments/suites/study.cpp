@@ -377,21 +377,8 @@ SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics)
   };
 }
 
-/// Reads at most kMaxSceneBytes + 1 bytes of the file. Throws SceneError.
-std::string read_study_file(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::error_code ec;
-  if (!in || fs::is_directory(file, ec)) {
-    const int err = errno;
-    throw SceneError(file.string(), "", std::string("cannot read the study file: ") +
-                                            (fs::is_directory(file, ec) ? "is a directory" : std::strerror(err)));
-  }
-  std::string text(kMaxSceneBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) throw SceneError(file.string(), "", "cannot read the study file: " + std::string(std::strerror(errno)));
-  return text;
-}
+/// The study file's text: a regular file of at most 1 MiB (read_toml_file). Throws SceneError.
+std::string read_study_file(const fs::path& file) { return read_toml_file(file, "the study file"); }
 
 }  // namespace
 

@@ -15,13 +15,17 @@
 #include <fstream>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
+#include "experiments/input/read_file.hpp"
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/csv_writer.hpp"
+#include "experiments/output/interrupt.hpp"
 #include "experiments/scene/scene.hpp"
 #include "experiments/methods/simulate.hpp"
 #include "experiments/suites/journal.hpp"
@@ -331,36 +335,6 @@ CaseOutcome resumed_outcome(const JournalEntry& e) {
   return o;
 }
 
-/// The signal that interrupted the run (0: none), set by the handler (a lock-free atomic store
-/// is async-signal-safe).
-std::atomic<int> g_interrupt{0};
-static_assert(std::atomic<int>::is_always_lock_free);
-
-extern "C" void on_interrupt(int signo) { g_interrupt.store(signo); }
-
-/// SIGINT and SIGTERM handled (they set g_interrupt) while it lives; the previous actions after.
-class InterruptHandlers {
- public:
-  InterruptHandlers() {
-    g_interrupt.store(0);
-    struct sigaction sa {};
-    sa.sa_handler = on_interrupt;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
-  }
-  ~InterruptHandlers() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  InterruptHandlers(const InterruptHandlers&) = delete;
-  InterruptHandlers& operator=(const InterruptHandlers&) = delete;
-
- private:
-  struct sigaction old_int_ {};
-  struct sigaction old_term_ {};
-};
-
 /// Expected cost of a case for the ETA; a job that cannot estimate counts as the mean of those
 /// that can (1 when none can).
 std::vector<double> expected_costs(const Suite& suite, const std::vector<std::size_t>& indices,
@@ -391,8 +365,12 @@ std::vector<double> expected_costs(const Suite& suite, const std::vector<std::si
 }  // namespace
 
 std::vector<SummaryRow> read_summary_csv(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw OutputError(file.string() + ": cannot read the suite summary");
+  std::istringstream in;
+  try {
+    in.str(read_regular_file(file, kMaxJournalFileBytes, "the suite summary"));
+  } catch (const UnreadableFile& e) {
+    throw OutputError(file.string() + ": cannot read the suite summary: " + e.reason());
+  }
   std::string line;
   bool more = static_cast<bool>(std::getline(in, line));
   std::size_t comment_lines = 0;  // the `# key: value` metadata before the header
@@ -428,8 +406,6 @@ std::vector<fs::path> render_suite(const Suite& suite, const SuiteOptions& optio
 }
 
 namespace {
-
-const char* signal_name(int signo) { return signo == SIGINT ? "SIGINT" : signo == SIGTERM ? "SIGTERM" : "a signal"; }
 
 /// With --resume: the journal's entries of this shard whose run matches and whose files verify.
 /// Throws InvalidInput when OUT holds another run (suite, form, version, cases, scenes, shard).
@@ -568,9 +544,12 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
     std::_Exit(128 + signo);
   };
 
-  const InterruptHandlers interrupt_handlers;
+  // SIGINT/SIGTERM (interrupt.hpp): this runner checks for them and ends the run itself
+  // (end_interrupted) during the cases and their timing; the figures check them while gnuplot runs.
+  const InterruptScope interrupt_scope;
+  std::optional<CooperativeInterrupts> cooperative(std::in_place);
   const auto worker = [&]() {
-    for (std::size_t k = next++; k < total && g_interrupt.load() == 0; k = next++) {
+    for (std::size_t k = next++; k < total && interrupt_signal() == 0; k = next++) {
       const SuiteCase& c = suite.cases[todo[k]];
       CaseOutcome& o = outcomes[k];
       o.index = todo[k];
@@ -618,7 +597,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   for (std::size_t done = 0; done < total;) {
     std::unique_lock lock(mutex);
     done_cv.wait_for(lock, std::chrono::milliseconds(100), [&] { return !finished.empty(); });
-    if (const int signo = g_interrupt.load(); signo != 0) {
+    if (const int signo = interrupt_signal(); signo != 0) {
       // Cases finished but not yet recorded count as finished.
       std::deque<std::size_t> pending = finished;
       finished.clear();
@@ -697,7 +676,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
       record(k);
     }
   }
-  if (const int signo = g_interrupt.load(); signo != 0) end_interrupted(signo);
+  if (const int signo = interrupt_signal(); signo != 0) end_interrupted(signo);
   if (!timed.empty()) {
     const TimingPolicy policy;
     progress << "timing " << timed.size() << " case" << (timed.size() == 1 ? "" : "s") << " in " << policy.rounds
@@ -708,7 +687,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
     std::size_t last_reported = 0;
     const std::vector<Timing> timings =
         time_serially(timed_runs, policy, [&](std::size_t round, std::size_t i) {
-          if (const int signo = g_interrupt.load(); signo != 0) end_interrupted(signo);
+          if (const int signo = interrupt_signal(); signo != 0) end_interrupted(signo);
           // One progress line per pass and per tenth of it.
           const std::size_t done = round * timed.size() + i + 1;
           const std::size_t all = policy.rounds * timed.size();
@@ -738,6 +717,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   }
 
   write_summaries_from(options.out_dir, header, finished_entries);
+  cooperative.reset();
   manifest.finished = finished_entries.size();
   manifest.complete = true;
   write_manifest(options.out_dir, manifest);

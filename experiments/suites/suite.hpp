@@ -288,8 +288,11 @@ struct SuiteResult {
 /// SIGINT or SIGTERM during the cases (and their timing): no new case starts; the summaries of
 /// the finished cases and the manifest (complete = false, interrupted_by) are written, this
 /// process's temporaries removed, and the process ends with status 128 + signal (std::_Exit:
-/// the running cases cannot be joined); `--resume` finishes the run.
-/// Throws SceneError, InvalidInput (also: --resume on a directory of another run), OutputError.
+/// the running cases cannot be joined); `--resume` finishes the run. During the figures (the
+/// summaries and manifest complete): gnuplot is stopped, no partial figure is published, and
+/// Interrupted (interrupt.hpp) is thrown.
+/// Throws SceneError, InvalidInput (also: --resume on a directory of another run), OutputError,
+/// Interrupted.
 SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostream& progress);
 
 /// Reads OUT/summary.csv (of a run or of concatenated shards) and renders the suite's figures.
