@@ -8,6 +8,7 @@
 
 #include "baselines/solver_detail.hpp"
 #include "lgvi/inertia.hpp"
+#include "lgvi/range.hpp"
 
 namespace lgvi::baselines {
 
@@ -73,8 +74,8 @@ SolverSettings resolve_settings(const SolverInfo& info, const SolverSettings& se
     if (s.h) throw InvalidInput("h", info.name + " is an adaptive method: it takes rtol/atol, not a fixed step");
     if (!s.rtol) s.rtol = kDefaultRtol;
     if (!s.atol) s.atol = *s.rtol;
-    if (!(std::isfinite(*s.rtol) && *s.rtol > 0.0)) throw InvalidInput("rtol", "must be finite and > 0");
-    if (!(std::isfinite(*s.atol) && *s.atol > 0.0)) throw InvalidInput("atol", "must be finite and > 0");
+    check_tolerance(*s.rtol, "rtol");
+    check_tolerance(*s.atol, "atol");
   }
   if (s.fixed_step_probe) {
     if (!info.offers_fixed_step_probe) {
