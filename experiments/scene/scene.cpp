@@ -175,6 +175,17 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
       r.fail("integration.last_step", "\"shorter\" is not allowed with [ocp]: the optimal control problem needs "
                                       "t_final a whole number of steps of h");
     }
+    if (!kOcpSteps.contains(static_cast<double>(scene.horizon.steps))) {
+      // Named by the value that set the number of steps: t_final when only it came from the
+      // command line, else h (with the option that gave it).
+      const std::string field = overrides.t_final && !overrides.h ? "integration.t_final (--t-final)"
+                                : overrides.h                     ? "integration.h (--h)"
+                                                                  : "integration.h";
+      r.fail(field, "gives " + std::to_string(scene.horizon.steps) + " steps (t_final / h, t_final = " +
+                        format_number(scene.horizon.t_final) + ", h = " + format_number(scene.horizon.h) +
+                        "); a scene with [ocp] takes at most " + Range::text(kOcpSteps.hi) +
+                        " (its solvers keep every step's state and sensitivities)");
+    }
     scene.ocp = read_ocp_table(reader, scene.model, SceneTableAccess::make(*parameters, "parameters"),
                                SceneTableAccess::make(*ocp, "ocp"));
   }

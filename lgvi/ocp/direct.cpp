@@ -19,6 +19,21 @@
 
 namespace lgvi::ocp {
 
+void DirectOptions::validate() const {
+  kKnots.require(knots, "knots");
+  kShootingInterval.require(shooting_interval, "shooting_interval");
+  kMaxEvaluations.require(max_evaluations, "max_evaluations");
+  kTolerance.require(tolerance, "tolerance");
+  Range::open(0, 1).require(ftol_rel, "ftol_rel");
+  Range::numbers(0, kMaxMagnitude).require(objective_scale, "objective_scale");
+  Range::numbers(0, kMaxMagnitude).require(guess_scale, "guess_scale");
+  kStarts.require(starts, "starts");
+  kFirstStart.require(first_start, "first_start");
+  for (Eigen::Index i = 0; i < initial_knots.size(); ++i) {
+    require_admissible(initial_knots(i), "initial_knots[" + std::to_string(i) + "]");
+  }
+}
+
 using so3::hat;
 
 // --- problems ----------------------------------------------------------------------------------
@@ -270,10 +285,11 @@ std::size_t whole_steps(double t_final, double h) {
   require_positive(h, "h");
   require_positive(t_final, "t_final");
   const double n = t_final / h;
-  if (!(n >= 0.5) || n > 1e8 || std::abs(n - std::round(n)) > 1e-9 * n) {
+  if (!(n >= 0.5) || n > kMaxOcpSteps + 0.5 || std::abs(n - std::round(n)) > 1e-9 * n) {
     std::ostringstream s;
     s.precision(17);
-    s << "the horizon t_final = " << t_final << " is not a whole number of steps h = " << h;
+    s << "the horizon t_final = " << t_final << " is not a whole number of steps h = " << h << " (t_final / h = " << n
+      << "; need an integer between 1 and " << Range::text(kMaxOcpSteps) << ", lgvi/range.hpp)";
     throw InvalidInput("h", s.str());
   }
   return static_cast<std::size_t>(std::llround(n));
@@ -870,17 +886,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<DirectTranscription<Model>> tr;
   try {
-    if (options.max_evaluations < 1) throw InvalidInput("max_evaluations", "must be >= 1");
-    if (!(options.tolerance > 0.0)) throw InvalidInput("tolerance", "must be > 0");
-    if (options.starts < 1) throw InvalidInput("starts", "must be >= 1");
-    if (options.first_start < 0) throw InvalidInput("first_start", "must be >= 0");
-    if (options.shooting_interval < 1) throw InvalidInput("shooting_interval", "must be >= 1");
-    if (!(options.objective_scale >= 0.0) || !std::isfinite(options.objective_scale)) {
-      throw InvalidInput("objective_scale", "must be finite and >= 0");
-    }
-    if (!(options.guess_scale >= 0.0) || !std::isfinite(options.guess_scale)) {
-      throw InvalidInput("guess_scale", "must be finite and >= 0");
-    }
+    options.validate();
     tr = std::make_unique<DirectTranscription<Model>>(system, problem, options);
     S.initial_knots = options.initial_knots.size() > 0 ? options.initial_knots
                                                        : default_initial_knots(system, options.knots);

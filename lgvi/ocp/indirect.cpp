@@ -14,6 +14,28 @@
 
 namespace lgvi::ocp {
 
+void ShootingOptions::validate() const {
+  if (initial_multiplier.size() != 0) {
+    for (Eigen::Index i = 0; i < initial_multiplier.size(); ++i) {
+      require_admissible(initial_multiplier(i), "initial_multiplier[" + std::to_string(i) + "]");
+    }
+  }
+  kMaxIterations.require(max_iterations, "max_iterations");
+  kMaxBacktracks.require(max_backtracks, "max_backtracks");
+  Range::open(0, 1).require(armijo, "armijo");
+  kTolerance.require(tolerance, "tolerance");
+  kPolishIterations.require(polish_iterations, "polish_iterations");
+  kLmInitialDamping.require(lm_initial_damping, "lm_initial_damping");
+  kNonmonotoneMemory.require(nonmonotone_memory, "nonmonotone_memory");
+  Range::above(0, 1).require(homotopy_initial_step, "homotopy_initial_step");
+  const ContinuationSettings& c = continuation;
+  Range::above(0, 1).require(c.initial_step, "continuation.initial_step");
+  Range::open(0, 1).require(c.predictor_target, "continuation.predictor_target");
+  Range::open(0, 1).require(c.corrector_tolerance, "continuation.corrector_tolerance");
+  Range::integers(0, 1000).require(c.max_corrector, "continuation.max_corrector");
+  Range::numbers(1, 1e6).require(c.max_growth, "continuation.max_growth");
+}
+
 // --- problems ----------------------------------------------------------------------------------
 
 TransferProblem TransferProblem::pendulum_paper() {
@@ -150,11 +172,12 @@ StateMultiplierFlow<Model>::StateMultiplierFlow(const System& system, const Tran
   require_positive(h, "h");
   require_positive(p.t_final, "t_final");
   const double n = p.t_final / h;
-  if (!(n >= 0.5) || n > 1e8 || std::abs(n - std::round(n)) > 1e-9 * n) {
+  if (!(n >= 0.5) || n > kMaxOcpSteps + 0.5 || std::abs(n - std::round(n)) > 1e-9 * n) {
     std::ostringstream s;
     s.precision(17);
     s << "the horizon t_final = " << p.t_final << " is not a whole number of steps h = " << h
-      << " (t_final / h = " << n << "; need an integer between 1 and 1e8)";
+      << " (t_final / h = " << n << "; need an integer between 1 and " << Range::text(kMaxOcpSteps)
+      << ", lgvi/range.hpp)";
     throw InvalidInput("h", s.str());
   }
   steps_ = static_cast<std::size_t>(std::llround(n));
@@ -423,38 +446,14 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
         throw InvalidInput("initial_multiplier", "must have " + std::to_string(ns) + " entries (got " +
                                                      std::to_string(o.initial_multiplier.size()) + ")");
       }
-      require_finite(o.initial_multiplier, "initial_multiplier");
       lambda = o.initial_multiplier;
     }
-    if (o.max_iterations < 0) throw InvalidInput("max_iterations", "must be >= 0");
-    if (o.max_backtracks < 0) throw InvalidInput("max_backtracks", "must be >= 0");
-    if (!(o.armijo > 0.0 && o.armijo < 1.0)) throw InvalidInput("armijo", "must lie in (0, 1)");
-    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw InvalidInput("tolerance", "must be finite and > 0");
-    if (o.polish_iterations < 0) throw InvalidInput("polish_iterations", "must be >= 0");
-    if (!(o.lm_initial_damping > 0.0) || !std::isfinite(o.lm_initial_damping)) {
-      throw InvalidInput("lm_initial_damping", "must be finite and > 0");
-    }
+    o.validate();
     if ((o.globalization == Globalization::Homotopy || o.globalization == Globalization::Continuation) &&
         Model::has_symmetry) {
       throw InvalidInput("globalization", std::string(to_string(o.globalization)) +
                                               " inverts the full sensitivity: not for a system with a symmetry "
                                               "(the pendulum's is singular)");
-    }
-    if (o.nonmonotone_memory < 1) throw InvalidInput("nonmonotone_memory", "must be >= 1");
-    if (!(o.homotopy_initial_step > 0.0 && o.homotopy_initial_step <= 1.0)) {
-      throw InvalidInput("homotopy_initial_step", "must lie in (0, 1]");
-    }
-    const ContinuationSettings& c = o.continuation;
-    if (!(c.initial_step > 0.0 && c.initial_step <= 1.0)) throw InvalidInput("continuation.initial_step", "must lie in (0, 1]");
-    if (!(c.predictor_target > 0.0 && c.predictor_target < 1.0)) {
-      throw InvalidInput("continuation.predictor_target", "must lie in (0, 1)");
-    }
-    if (!(c.corrector_tolerance > 0.0 && c.corrector_tolerance < 1.0)) {
-      throw InvalidInput("continuation.corrector_tolerance", "must lie in (0, 1)");
-    }
-    if (c.max_corrector < 0) throw InvalidInput("continuation.max_corrector", "must be >= 0");
-    if (!(c.max_growth >= 1.0) || !std::isfinite(c.max_growth)) {
-      throw InvalidInput("continuation.max_growth", "must be finite and >= 1");
     }
   } catch (const InvalidInput& e) {
     S.status = ShootingStatus::InvalidInput;
