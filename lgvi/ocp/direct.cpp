@@ -223,6 +223,7 @@ const char* to_string(DirectStatus s) {
     case DirectStatus::SimulationFailed: return "simulation failed";
     case DirectStatus::SolverFailure: return "solver failure";
     case DirectStatus::InvalidInput: return "invalid input";
+    case DirectStatus::NonFiniteValue: return "non-finite value";
   }
   return "unknown";
 }
@@ -906,6 +907,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   // Start 0 from the given (or default) guess; starts 1.. from seeded N(0, sigma^2) knot values.
   // The result is the feasible start of lowest cost (else the least infeasible).
   int best = -1;
+  std::string non_finite;  // the first start with a non-finite value, and where
   Eigen::VectorXd best_x;
   typename DirectTranscription<Model>::Evaluation best_e;
   for (int i = 0; i < options.starts; ++i) {
@@ -952,12 +954,31 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
                                                       : DirectStatus::Infeasible;
     }
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // A non-finite value in the start's history or result makes it a failure of its own.
+    bool finite = true;
+    if (ok) {
+      std::string where;
+      for (std::size_t h = history_before; h < S.history.size() && where.empty(); ++h) {
+        const DirectIteration& it = S.history[h];
+        if (!std::isfinite(it.cost)) where = "cost = " + std::to_string(it.cost);
+        if (!std::isfinite(it.violation)) where = "violation = " + std::to_string(it.violation);
+        if (!where.empty()) where += " at evaluation " + std::to_string(it.evaluation);
+      }
+      if (where.empty() && !std::isfinite(st.cost)) where = "cost = " + std::to_string(st.cost);
+      if (where.empty() && !std::isfinite(st.violation)) where = "violation = " + std::to_string(st.violation);
+      if (where.empty() && !x.allFinite()) where = "a knot value is not finite";
+      if (!where.empty()) {
+        finite = false;
+        st.status = DirectStatus::NonFiniteValue;
+        if (non_finite.empty()) non_finite = "start " + std::to_string(k) + ": " + where;
+      }
+    }
     const auto better = [&](const DirectStart& a, const DirectStart& b) {
       const bool fa = a.violation <= options.tolerance, fb = b.violation <= options.tolerance;
       if (fa != fb) return fa;
       return fa ? a.cost < b.cost : a.violation < b.violation;
     };
-    if (ok && (best < 0 || better(st, S.starts[best]))) {
+    if (ok && finite && (best < 0 || better(st, S.starts[best]))) {
       best = i;
       best_x = x;
       best_e = e;
@@ -969,7 +990,11 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
     S.iterations += st.iterations;
     S.evaluations += st.evaluations;
   }
-  if (best < 0) {
+  if (best < 0 && !non_finite.empty()) {
+    S.status = DirectStatus::NonFiniteValue;
+    S.message = non_finite;
+    S.knot_values = S.starts.back().knot_values;
+  } else if (best < 0) {
     S.status = DirectStatus::SimulationFailed;
     S.message = S.last_failure.empty() ? "every start's returned point failed to simulate" : S.last_failure;
     S.knot_values = S.starts.back().knot_values;

@@ -245,6 +245,9 @@ enum class DirectStatus {
   SimulationFailed,  ///< a rotation update did not converge (message: step, time, residual)
   SolverFailure,     ///< any other NLopt failure
   InvalidInput,      ///< bad problem or options (message names the field)
+  /// A start's history or result holds a non-finite value (the summary's message names the first
+  /// such start and value); the start is not a candidate for the best.
+  NonFiniteValue,
 };
 const char* to_string(DirectStatus s);
 

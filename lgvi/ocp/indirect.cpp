@@ -107,6 +107,7 @@ const char* to_string(ShootingStatus s) {
     case ShootingStatus::SingularSensitivity: return "singular sensitivity";
     case ShootingStatus::SweepFailed: return "sweep failed";
     case ShootingStatus::InvalidInput: return "invalid input";
+    case ShootingStatus::NonFiniteValue: return "non-finite value";
   }
   return "unknown";
 }
@@ -124,6 +125,43 @@ std::string ShootingSummary::brief() const {
                 cond_full_min, cond_full_max, wall_seconds, message.empty() ? "" : ": ", message.c_str());
   return buf;
 }
+
+namespace {
+
+/// The first non-finite value of a finished run's history and result ("cond_sensitivity = inf
+/// at outer iteration 3", "multiplier[2] = nan"), or "" when all are finite.
+std::string first_non_finite(const ShootingSummary& S) {
+  const auto text = [](const char* name, double v, const std::string& where) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s = %g%s", name, v, where.c_str());
+    return std::string(buf);
+  };
+  for (const IterationRecord& r : S.history) {
+    const std::string at = " at outer iteration " + std::to_string(r.iteration);
+    const std::pair<const char*, double> values[] = {
+        {"violation", r.violation},         {"cost", r.cost},           {"step_length", r.step_length},
+        {"cond_sensitivity", r.cond_sensitivity}, {"cond_inverted", r.cond_inverted}, {"step_norm", r.step_norm},
+        {"group_residual", r.group_residual}, {"group_block", r.group_block}, {"seconds", r.seconds}};
+    for (const auto& [name, v] : values) {
+      if (!std::isfinite(v)) return text(name, v, at);
+    }
+  }
+  const std::pair<const char*, double> result[] = {{"cost", S.cost},         {"violation", S.violation},
+                                                   {"cond_min", S.cond_min}, {"cond_max", S.cond_max},
+                                                   {"cond_full_min", S.cond_full_min},
+                                                   {"cond_full_max", S.cond_full_max}};
+  for (const auto& [name, v] : result) {
+    if (!std::isfinite(v)) return text(name, v, " in the result");
+  }
+  for (const auto& [name, v] : {std::pair{"residual", &S.residual}, std::pair{"multiplier", &S.multiplier}}) {
+    for (Eigen::Index i = 0; i < v->size(); ++i) {
+      if (!std::isfinite((*v)(i))) return text((std::string(name) + "[" + std::to_string(i) + "]").c_str(), (*v)(i), "");
+    }
+  }
+  return "";
+}
+
+}  // namespace
 
 // --- the state-multiplier flow -------------------------------------------------------------
 
@@ -537,6 +575,15 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
     newton_continuation(sweeps, newton, lambda, current, S, o.continuation);
   }
   newton_armijo_shooting(sweeps, newton, lambda, current, S);
+  // A non-finite value in the history or the result is a failure of its own (not for the
+  // statuses that are about one already: a singular Newton system, a failed sweep).
+  if (S.status != ShootingStatus::SingularSensitivity && S.status != ShootingStatus::SweepFailed) {
+    const std::string where = first_non_finite(S);
+    if (!where.empty()) {
+      S.status = ShootingStatus::NonFiniteValue;
+      S.message = where;
+    }
+  }
   return result;
 }
 

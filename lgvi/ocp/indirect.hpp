@@ -81,6 +81,10 @@ enum class ShootingStatus {
   SingularSensitivity,  ///< the Newton system could not be solved (non-finite step)
   SweepFailed,          ///< the sweep from the initial guess failed (rotation update)
   InvalidInput,         ///< bad problem or options (message names the field)
+  /// A value of the iteration history or of the result is not finite (the message names it and
+  /// the iteration): never a success (or an iteration limit, a line search failure) with an inf
+  /// or NaN in its files. SingularSensitivity and SweepFailed keep their own status.
+  NonFiniteValue,
 };
 const char* to_string(ShootingStatus s);
 
