@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -36,6 +37,7 @@
 #include "experiments/methods/simulate.hpp"
 #include "experiments/suites/suite.hpp"
 #include "validation/validate.hpp"
+#include "python_limits.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -275,7 +277,13 @@ py::dict simulate_scene(const ex::Scene& scene, const std::string& method_name, 
   options.model = std::move(model);
   options.rtol = rtol;
   options.atol = atol;
+  // The method's options validated as the CLI's (make_method: the tolerances' range,
+  // baselines/tolerance.hpp); the rows read back into memory bounded (python_limits.hpp).
   const std::unique_ptr<ex::Method> method = ex::make_method(method_name, options);
+  const ex::Horizon& hz = scene.horizon;
+  lgvi::python::require_rows(
+      std::floor(static_cast<double>(hz.steps) / static_cast<double>(hz.output_every)) + 2.0, "output_every",
+      "the scene's steps / output_every (" + std::to_string(hz.steps) + " / " + std::to_string(hz.output_every) + ")");
   if (csv && *csv == "-") throw py::value_error("csv: a file to keep the rows in ('-', standard output, is the CLI's)");
   std::optional<ScratchDir> scratch;
   if (!csv) scratch.emplace();

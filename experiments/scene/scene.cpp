@@ -24,6 +24,7 @@
 #include "experiments/input/scene_reader.hpp"
 #include "experiments/input/toml_reader.hpp"
 #include "experiments/systems/systems.hpp"
+#include "lgvi/range.hpp"
 #include "lgvi/so3.hpp"
 
 namespace lgvi::experiments {
@@ -71,8 +72,7 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every, LastSt
   require_positive(h, "h");
   require_positive(t_final, "t_final");
   const double n = t_final / h;
-  constexpr double kMaxSteps = 1e12;
-  if (!(n <= kMaxSteps)) {
+  if (!(n <= kMaxSteps)) {  // lgvi/range.hpp
     throw InvalidInput("t_final", "needs too many steps (t_final / h = " + format_number(n) +
                                       ", limit " + format_number(kMaxSteps) + ")");
   }
