@@ -198,9 +198,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   // [control] and would print a line on every run, and absent optional keys (form,
   // output_every, phase) would still pass unreported; an optional end marker cannot be told
   // missing from a file written without one.
-  if (!toml_text.empty() && toml_text.back() != '\n') {
-    scene.warnings.push_back(join_message(file_name, "", "does not end with a newline: the file may be truncated"));
-  }
+  if (const auto warning = truncation_warning(toml_text, file_name)) scene.warnings.push_back(*warning);
   scene.inputs = reader.inputs();
   return scene;
 }
@@ -225,19 +223,7 @@ Scene parse_scene_file(const fs::path& file, const SceneOverrides& overrides) {
 
 Scene load_scene(const fs::path& file, const SceneOverrides& overrides) {
   Scene scene = parse_scene_file(file, overrides);
-  std::error_code ec;
-  // Once per file: a suite or study loads its scene once per case.
-  static std::mutex warned_mutex;
-  static std::set<std::string> warned;
-  if (!scene.warnings.empty()) {
-    const std::lock_guard lock(warned_mutex);
-    if (warned.insert(fs::absolute(file, ec).lexically_normal().string()).second) {
-      std::string lines;
-      for (const std::string& w : scene.warnings) lines += "warning: " + w + "\n";
-      std::fputs(lines.c_str(), stderr);
-      std::fflush(stderr);
-    }
-  }
+  warn_once(file, scene.warnings);
   return scene;
 }
 
