@@ -35,9 +35,11 @@ constexpr std::string_view kQuickKeys[] = {"scenes",  "methods",          "h",  
                                            "reference", "metrics",        "samples", "adaptive_samples", "probes"};
 constexpr std::string_view kSceneKeys[] = {"scene", "horizons", "h", "steps", "tolerances"};
 constexpr std::string_view kMethodKeys[] = {"method", "model", "where"};
+/// samples and adaptive_samples: rows per run, at most 10^7 (a case's CSV of 10^7 rows is about
+/// 2 GB; adaptive_samples = 10^13, a grid of more steps than a horizon may have, was refused
+/// naming the scene file's "integration.t_final (--t-final, h from --h)" instead of this key).
+constexpr Range kStudySamples = Range::integers(1, 1e7);
 constexpr std::string_view kReferenceKeys[] = {"kind", "method", "model", "h", "steps", "rtol"};
-/// The bound `simulate --rtol` states: above 0.1 a run is no solution.
-constexpr double kMaxRtol = 0.1;
 
 std::string join(std::span<const std::string_view> items) {
   std::string s;
@@ -503,13 +505,21 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
   const auto h_value = r.get("h");
   const auto steps_value = r.get("steps");
   const FixedSweep fixed = read_fixed_sweep(r, h_value.node, h_value.field, steps_value.node, steps_value.field);
-  const auto integer_key = [&](std::string_view key, std::int64_t fallback, std::int64_t min) {
+  // An integer key in its range; the message says what the value is for and what is allowed.
+  const auto integer_key = [&](std::string_view key, std::int64_t fallback, const Range& range, const char* what) {
     const auto [node, field] = r.get(key);
-    return node == nullptr ? fallback : r.integer_at_least(*node, field, min);
+    if (node == nullptr) return fallback;
+    const std::int64_t v = r.integer(*node, field);
+    if (!range.contains(static_cast<double>(v))) r.fail(field, range.problem(static_cast<double>(v)) + ": " + what);
+    return v;
   };
-  const std::int64_t samples = integer_key("samples", 100, 1);
-  const std::int64_t adaptive_samples = integer_key("adaptive_samples", samples, 1);
-  const auto probes = static_cast<std::size_t>(integer_key("probes", 0, 0));
+  const std::int64_t samples =
+      integer_key("samples", 100, kStudySamples, "the rows written per fixed-step run (every K-th step, K = steps / samples)");
+  const std::int64_t adaptive_samples = integer_key(
+      "adaptive_samples", samples, kStudySamples,
+      "the intervals of the adaptive runs' output grid (its step is T / adaptive_samples; one row per grid time)");
+  const auto probes = static_cast<std::size_t>(integer_key(
+      "probes", 0, Range::integers(0, 1000), "how many of the largest h of each fixed-step sweep are probes"));
 
   // Scenes, each loaded (its own errors name its file).
   std::vector<SceneEntry> scenes;
