@@ -8,6 +8,7 @@
 
 #include "baselines/solver_detail.hpp"
 #include "lgvi/inertia.hpp"
+#include "lgvi/range.hpp"
 
 namespace lgvi::baselines {
 
@@ -73,8 +74,8 @@ SolverSettings resolve_settings(const SolverInfo& info, const SolverSettings& se
     if (s.h) throw InvalidInput("h", info.name + " is an adaptive method: it takes rtol/atol, not a fixed step");
     if (!s.rtol) s.rtol = kDefaultRtol;
     if (!s.atol) s.atol = *s.rtol;
-    if (!(std::isfinite(*s.rtol) && *s.rtol > 0.0)) throw InvalidInput("rtol", "must be finite and > 0");
-    if (!(std::isfinite(*s.atol) && *s.atol > 0.0)) throw InvalidInput("atol", "must be finite and > 0");
+    check_tolerance(*s.rtol, "rtol");
+    check_tolerance(*s.atol, "atol");
   }
   if (s.fixed_step_probe) {
     if (!info.offers_fixed_step_probe) {
@@ -128,6 +129,16 @@ Stats integrate(const std::string& method, const Ode& ode, std::span<const doubl
     if (!why.empty()) throw InvalidInput("model", info.name + ": " + why);
   }
   if (times.empty()) throw InvalidInput("times", "no output times");
+  if (info.step_control == StepControl::Fixed && std::isfinite(times.back() - times.front())) {
+    // The grid's step count, bounded as a scene's horizon is (lgvi/range.hpp): beyond it the
+    // count of steps per interval overflows (an h of 1e-20 returned the initial state as if
+    // completed).
+    const double n = (times.back() - times.front()) / *s.h;
+    if (!(n <= kMaxSteps)) {
+      throw InvalidInput("h", "gives too many steps over the output times ((t_last - t_first) / h = " +
+                                  Range::text(n) + ", limit " + Range::text(kMaxSteps) + ")");
+    }
+  }
   for (std::size_t i = 0; i < times.size(); ++i) {
     if (!std::isfinite(times[i])) throw InvalidInput("times", "has a non-finite entry");
     if (i > 0 && !(times[i] > times[i - 1])) throw InvalidInput("times", "must be strictly increasing");

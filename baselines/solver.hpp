@@ -97,6 +97,7 @@
 #include <vector>
 
 #include "baselines/ode.hpp"
+#include "baselines/tolerance.hpp"
 #include "lgvi/integrate.hpp"
 
 namespace lgvi::baselines {
@@ -150,10 +151,6 @@ enum class JacobianSource {
   DifferenceQuotient,  ///< CVODE's internal difference quotient (CVODE only)
 };
 
-/// Default relative tolerance of the adaptive methods; atol defaults to rtol (the states are
-/// O(1): quaternion and matrix entries are bounded by 1, angles by pi, rates of order 1-10; with
-/// atol = rtol the control is rtol (1 + |y_i|), which does not collapse at zero crossings).
-inline constexpr double kDefaultRtol = 1e-6;
 
 struct SolverSettings {
   std::optional<double> h;     ///< fixed-step methods: the step (required; forbidden otherwise)
@@ -185,7 +182,8 @@ struct SolverSettings {
 
 /// The settings with defaults filled in, checked against the method and the model. Throws
 /// InvalidInput naming the option: "h" (fixed-step method without a positive finite h, or an
-/// adaptive method given one), "rtol"/"atol" (given to a fixed-step method, or not positive),
+/// adaptive method given one), "rtol"/"atol" (given to a fixed-step method, or outside
+/// kToleranceRange: check_tolerance),
 /// "model" (a renormalized model with a method without a post-step hook, or with
 /// cvode-bdf-projected, which projects the plain quaternion model itself), "jacobian"
 /// (difference quotient requested from a non-CVODE method).

@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -36,6 +37,7 @@
 #include "experiments/methods/simulate.hpp"
 #include "experiments/suites/suite.hpp"
 #include "validation/validate.hpp"
+#include "python_limits.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -275,7 +277,13 @@ py::dict simulate_scene(const ex::Scene& scene, const std::string& method_name, 
   options.model = std::move(model);
   options.rtol = rtol;
   options.atol = atol;
+  // The method's options validated as the CLI's (make_method: the tolerances' range,
+  // baselines/tolerance.hpp); the rows read back into memory bounded (python_limits.hpp).
   const std::unique_ptr<ex::Method> method = ex::make_method(method_name, options);
+  const ex::Horizon& hz = scene.horizon;
+  lgvi::python::require_rows(
+      std::floor(static_cast<double>(hz.steps) / static_cast<double>(hz.output_every)) + 2.0, "output_every",
+      "the scene's steps / output_every (" + std::to_string(hz.steps) + " / " + std::to_string(hz.output_every) + ")");
   if (csv && *csv == "-") throw py::value_error("csv: a file to keep the rows in ('-', standard output, is the CLI's)");
   std::optional<ScratchDir> scratch;
   if (!csv) scratch.emplace();
@@ -443,26 +451,31 @@ py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
   std::optional<fs::path> keep;
   for (const auto& [key_handle, value] : kwargs) {
     const std::string key = py::str(key_handle);
+    // Numbers as the CLI reads them (integers as 64-bit: a value out of its range is then the
+    // range's ValueError, not a failed cast); run_ocp_command checks each against its range.
     if (key == "form") cmd.form = value.cast<std::string>();
     else if (key == "h") cmd.h = value.cast<double>();
     else if (key == "steps") cmd.steps = value.cast<long long>();
     else if (key == "decomposition") cmd.no_decomposition = !value.cast<bool>();
     else if (key == "merit") cmd.merit = value.cast<std::string>();
     else if (key == "globalization") cmd.globalization = value.cast<std::string>();
+    else if (key == "lm_damping") cmd.lm_damping = value.cast<double>();
+    else if (key == "nonmonotone_memory") cmd.nonmonotone_memory = value.cast<long long>();
     else if (key == "guess") cmd.guess = value.cast<std::vector<double>>();
-    else if (key == "max_iterations") cmd.max_iterations = value.cast<int>();
+    else if (key == "max_iterations") cmd.max_iterations = value.cast<long long>();
     else if (key == "t_final") cmd.t_final = value.cast<double>();
     else if (key == "sphere_radius") cmd.sphere_radius = value.cast<double>();
-    else if (key == "knots") cmd.knots = value.cast<int>();
+    else if (key == "knots") cmd.knots = value.cast<long long>();
     else if (key == "spline") cmd.spline = value.cast<std::string>();
     else if (key == "gradients") cmd.gradients = value.cast<std::string>();
     else if (key == "tolerance") cmd.tolerance = value.cast<double>();
-    else if (key == "starts") cmd.starts = value.cast<int>();
+    else if (key == "starts") cmd.starts = value.cast<long long>();
     else if (key == "seed") cmd.seed = value.cast<long long>();
-    else if (key == "first_start") cmd.first_start = value.cast<int>();
+    else if (key == "first_start") cmd.first_start = value.cast<long long>();
     else if (key == "solver") cmd.solver = value.cast<std::string>();
     else if (key == "hessian") cmd.hessian = value.cast<std::string>();
-    else if (key == "shooting_interval") cmd.shooting_interval = value.cast<int>();
+    else if (key == "state_guess") cmd.state_guess = value.cast<std::string>();
+    else if (key == "shooting_interval") cmd.shooting_interval = value.cast<long long>();
     else if (key == "out") keep = value.cast<fs::path>();
     else throw py::value_error(key + ": not an option of solve_ocp (see its docstring)");
   }
@@ -471,9 +484,19 @@ py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
   cmd.out = (keep ? *keep : scratch->path()).string();
   std::ostringstream out, err;
   int status = 0;
-  {
+  try {
     py::gil_scoped_release release;
     status = ex::run_ocp_command(cmd, "python: lgvi.solve_ocp('" + system + "')", out, err);
+  } catch (const lgvi::InvalidInput& e) {
+    // The CLI's check, the argument named as Python's: "--max-iterations" is max_iterations.
+    std::string field = e.field();
+    if (field.rfind("--", 0) != 0) throw;
+    const std::string what = e.what();
+    const std::string reason = what.substr(std::min(what.size(), field.size() + 2));
+    field.erase(0, 2);
+    for (char& c : field) c = c == '-' ? '_' : c;
+    if (field == "no_decomposition") field = "decomposition";
+    throw py::value_error(field + ": " + reason);
   }
   if (status == 1) {
     std::string message = err.str();
@@ -585,9 +608,10 @@ void bind_harness(py::module_& m) {
         "Optimal control, as `lgvi-testbed ocp SYSTEM`: the paper's 'pendulum', 'dumbbell' (indirect shooting) or "
         "'cart-pendulum', 'connected-bodies' (direct method; solver='slsqp' or 'ipopt'), or a scene with an [ocp] "
         "table (a name or a path). Keyword options are "
-        "the CLI's with underscores: form, h, steps, decomposition, merit, globalization, guess, "
-        "max_iterations, t_final, sphere_radius, knots, spline, gradients, tolerance, starts, seed, "
-        "first_start, solver, hessian, shooting_interval; out: keep the files in this directory. Returns "
+        "the CLI's with underscores: form, h, steps, decomposition, merit, globalization, lm_damping, "
+        "nonmonotone_memory, guess, max_iterations, t_final, sphere_radius, knots, spline, gradients, tolerance, "
+        "starts, seed, first_start, solver, hessian, state_guess, shooting_interval (each checked against the "
+        "CLI's range: ValueError naming it); out: keep the files in this directory. Returns "
         "{summary (the JSON summary), trajectory, history [, knots] (column dicts), converged, out}. "
         "ValueError for bad input.");
 }

@@ -1,6 +1,10 @@
-// Python bindings (pybind11): the module `lgvi`. NumPy arrays in and out; every array argument
-// is checked for its shape and finiteness at the boundary and a bad one raises ValueError naming
-// the argument (the library's InvalidInput becomes ValueError with its "field: reason" text).
+// Python bindings (pybind11): the module `lgvi`. NumPy arrays in and out; every argument is
+// checked at the boundary by the CLI's rules and a bad one raises ValueError naming it (the
+// library's InvalidInput becomes ValueError with its "field: reason" text): arrays for their
+// shape, every number for the scene files' magnitudes (lgvi/range.hpp: finite, 0 or of magnitude
+// in [1e-100, 1e100]), steps for the step limit, tolerances for the adaptive methods' range
+// (baselines/tolerance.hpp, through the solver's own validation), and the rows a call returns
+// for the module's memory limit (python_limits.hpp).
 //
 // Exposed: so3 maths (hat, vee, exp, log, cayley), FreeRigidBody and Pendulum3D, the LGVI
 // (step, simulate), one baseline run (simulate_baseline: every method and coordinate model of
@@ -25,6 +29,7 @@
 #include "lgvi/so3.hpp"
 #include "lgvi/systems/free_rigid_body.hpp"
 #include "lgvi/systems/pendulum.hpp"
+#include "python_limits.hpp"
 
 namespace py = pybind11;
 using lgvi::Mat3;
@@ -44,13 +49,36 @@ std::string shape_text(const Array& a) {
   return s + (a.ndim() == 1 ? ",)" : ")");
 }
 
-/// A (3,) array as a Vec3; ValueError naming `name` for another shape or a non-finite entry.
+/// Entries of an array argument: finite, and 0 or of magnitude in [1e-100, 1e100] (the scene
+/// files' numbers, lgvi/range.hpp); ValueError naming the argument and the entry.
+template <class Derived>
+void check_entries(const Eigen::MatrixBase<Derived>& m, const char* name) {
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    for (Eigen::Index j = 0; j < m.cols(); ++j) {
+      const std::string problem = lgvi::magnitude_problem(m(i, j));
+      if (problem.empty()) continue;
+      const std::string at = m.cols() == 1 ? "[" + std::to_string(i) + "]"
+                                           : "[" + std::to_string(i) + "][" + std::to_string(j) + "]";
+      throw py::value_error(std::string(name) + at + ": " + problem);
+    }
+  }
+}
+
+/// A scalar argument by the same rule; `positive`: also > 0.
+double number(double x, const char* name, bool positive = false) {
+  const std::string problem = lgvi::magnitude_problem(x);
+  if (!problem.empty()) throw py::value_error(std::string(name) + ": " + problem);
+  if (positive && !(x > 0.0)) throw py::value_error(std::string(name) + ": must be > 0 (got " + lgvi::Range::text(x) + ")");
+  return x;
+}
+
+/// A (3,) array as a Vec3; ValueError naming `name` for another shape or a bad entry.
 Vec3 vec3(const Array& a, const char* name) {
   if (a.ndim() != 1 || a.shape(0) != 3) {
     throw py::value_error(std::string(name) + ": expected shape (3,), got " + shape_text(a));
   }
   const Vec3 v(a.at(0), a.at(1), a.at(2));
-  if (!v.allFinite()) throw py::value_error(std::string(name) + ": has a non-finite entry");
+  check_entries(v, name);
   return v;
 }
 
@@ -62,7 +90,7 @@ Mat3 mat3(const Array& a, const char* name) {
   Mat3 m;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) m(i, j) = a.at(i, j);
-  if (!m.allFinite()) throw py::value_error(std::string(name) + ": has a non-finite entry");
+  check_entries(m, name);
   return m;
 }
 
@@ -126,10 +154,14 @@ struct Trajectory {
   }
 };
 
+/// h, steps and every of simulate, by the scene files' rules (a positive admissible h, at most
+/// kMaxSteps steps, lgvi/range.hpp) and the module's row limit (python_limits.hpp).
 std::size_t checked_steps(double h, long long steps, long long every) {
-  if (!(h > 0.0) || !std::isfinite(h)) throw py::value_error("h: must be finite and > 0");
-  if (steps < 0) throw py::value_error("steps: must be >= 0");
-  if (every < 1) throw py::value_error("every: must be >= 1");
+  number(h, "h", true);
+  lgvi::Range::integers(0, lgvi::kMaxSteps).require(static_cast<double>(steps), "steps");
+  lgvi::Range::integers(1, lgvi::kMaxSteps).require(static_cast<double>(every), "every");
+  lgvi::python::require_rows(std::floor(static_cast<double>(steps) / static_cast<double>(every)) + 2.0, "every",
+                             "steps / every");
   return static_cast<std::size_t>(steps);
 }
 
@@ -160,7 +192,7 @@ py::dict simulate_lgvi(const System& system, const Array& R0, const Array& Omega
 /// One LGVI step from (R, Omega) without control: returns (R1, Omega1).
 template <class System>
 py::tuple step_lgvi(const System& system, const Array& R, const Array& Omega, double h, const std::string& form) {
-  if (!(h > 0.0) || !std::isfinite(h)) throw py::value_error("h: must be finite and > 0");
+  number(h, "h", true);
   const lgvi::AttitudeLgvi<System> integrator(system, parse_form(form));
   const auto s0 = integrator.make_state(mat3(R, "R"), vec3(Omega, "Omega"));
   typename lgvi::AttitudeLgvi<System>::State s1;
@@ -177,8 +209,11 @@ py::dict simulate_baseline(const System& system, const Array& R0_in, const Array
                            long long samples, const std::string& method, const std::string& model,
                            std::optional<double> rtol, std::optional<double> atol, std::optional<double> h) {
   namespace b = lgvi::baselines;
-  if (!(t_final > 0.0) || !std::isfinite(t_final)) throw py::value_error("t_final: must be finite and > 0");
-  if (samples < 1) throw py::value_error("samples: must be >= 1");
+  // t_final and h by the scene files' rules; rtol, atol and the steps h gives over t_final by
+  // the solvers' own validation (resolve_settings, integrate: the CLI's ranges).
+  number(t_final, "t_final", true);
+  if (h) number(*h, "h", true);
+  lgvi::Range::integers(1, lgvi::python::kMaxRows - 1).require(static_cast<double>(samples), "samples");
   const Mat3 R0 = mat3(R0_in, "R0");
   const Vec3 Omega0 = vec3(Omega0_in, "Omega0");
   b::SolverSettings settings;
@@ -224,7 +259,7 @@ py::dict solve_pendulum_transfer(const lgvi::Pendulum3D& pendulum, double h, con
   const o::TransferProblem problem = o::TransferProblem::pendulum_paper();
   o::ShootingOptions options;
   options.form = parse_form(form);
-  options.h = h;
+  options.h = number(h, "h", true);  // the steps 1 / h are the solver's (at most kMaxOcpSteps)
   options.tolerance = tolerance;
   options.max_iterations = max_iterations;
   if (initial_multiplier) {
@@ -329,7 +364,8 @@ PYBIND11_MODULE(lgvi, m) {
 
   py::class_<lgvi::Pendulum3D>(m, "Pendulum3D", "3D pendulum on a fixed pivot in uniform gravity (sec. 3.2).")
       .def(py::init([](double mass, const Array& inertia, const Array& rho, double gravity) {
-             return lgvi::Pendulum3D(mass, inertia_matrix(inertia), vec3(rho, "rho"), gravity);
+             return lgvi::Pendulum3D(number(mass, "mass"), inertia_matrix(inertia), vec3(rho, "rho"),
+                                     number(gravity, "gravity"));
            }),
            py::arg("mass"), py::arg("inertia"), py::arg("rho"), py::arg("gravity") = 9.81)
       .def_static("paper", &lgvi::Pendulum3D::paper, "The paper's pendulum (m = 1, J = diag(0.13, 0.28, 0.17)).")

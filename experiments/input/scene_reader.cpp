@@ -3,6 +3,7 @@
 // picks the system's binding and reads [integration].
 #include "experiments/input/scene_reader.hpp"
 
+#include <cstdio>
 #include <mutex>
 #include <set>
 
@@ -116,6 +117,24 @@ void check_toml_text(std::string_view text, const std::string& file, const std::
                    " files take a few kB");
   }
   check_structure(text, r);
+}
+
+std::optional<std::string> truncation_warning(std::string_view text, const std::string& file) {
+  if (text.empty() || text.back() == '\n') return std::nullopt;
+  return join_message(file, "", "does not end with a newline: the file may be truncated");
+}
+
+void warn_once(const fs::path& file, const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return;
+  static std::mutex warned_mutex;
+  static std::set<std::string> warned;
+  std::error_code ec;
+  const std::lock_guard lock(warned_mutex);
+  if (!warned.insert(fs::absolute(file, ec).lexically_normal().string()).second) return;
+  std::string lines;
+  for (const std::string& w : warnings) lines += "warning: " + w + "\n";
+  std::fputs(lines.c_str(), stderr);
+  std::fflush(stderr);
 }
 
 void SceneReader::fail(const std::string& field, const std::string& reason) const {

@@ -25,14 +25,15 @@
 #include <vector>
 
 #include "experiments/input/controls.hpp"
+#include "lgvi/range.hpp"
 #include "lgvi/types.hpp"
 
 namespace lgvi::experiments {
 
 inline constexpr std::size_t kMaxSceneBytes = std::size_t{1} << 20;
 inline constexpr int kMaxSceneNesting = 32;
-inline constexpr double kMaxSceneMagnitude = 1e100;
-inline constexpr double kMinSceneMagnitude = 1e-100;
+inline constexpr double kMaxSceneMagnitude = kMaxMagnitude;  // lgvi/range.hpp, shared with Python
+inline constexpr double kMinSceneMagnitude = kMinMagnitude;
 
 /// Bad scene input. `field` is the dotted TOML path ("parameters.inertia", "integration.h"),
 /// with " (--h)" appended when the value came from a command-line override, or a position

@@ -217,10 +217,8 @@ class TomlReader {
   /// A finite number, 0 or of magnitude in [kMinSceneMagnitude, kMaxSceneMagnitude].
   double number(const toml::node& n, const std::string& field) const {
     const double v = finite_number(n, field);
-    if (v != 0.0 && !(std::abs(v) >= kMinSceneMagnitude && std::abs(v) <= kMaxSceneMagnitude)) {
-      fail(field, "must be 0 or of magnitude between 1e-100 and 1e100 (got " + format_number(v) +
-                      "; products of larger values overflow)");
-    }
+    const std::string problem = magnitude_problem(v);  // lgvi/range.hpp: the Python module's rule too
+    if (!problem.empty()) fail(field, problem);
     return v;
   }
 

@@ -87,8 +87,8 @@ std::unique_ptr<Method> make_rkmk45(const MethodOptions& options) {
   lg::Rkmk45Settings s;
   s.rtol = options.rtol.value_or(baselines::kDefaultRtol);
   s.atol = options.atol.value_or(s.rtol);
-  if (!(std::isfinite(s.rtol) && s.rtol > 0.0)) throw InvalidInput("rtol", "must be finite and > 0");
-  if (!(std::isfinite(s.atol) && s.atol > 0.0)) throw InvalidInput("atol", "must be finite and > 0");
+  baselines::check_tolerance(s.rtol, "rtol");  // the adaptive baselines' range (baselines/tolerance.hpp)
+  baselines::check_tolerance(s.atol, "atol");
   return std::make_unique<Rkmk45Method>(s);
 }
 

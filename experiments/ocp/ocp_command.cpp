@@ -150,17 +150,26 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
 
 }  // namespace
 
-CLI::Validator number_in(double lo, double hi, bool lo_open, const std::string& range) {
+namespace {
+
+/// An integer option may be written as a number with an exponent ("1e8"): the text of an
+/// integral value is rewritten as the integer, so that its range is what the error names
+/// ("--steps: must be an integer in [1, 1000000] (got 100000000)"), not CLI11's conversion.
+CLI::Validator integer_text() {
   return CLI::Validator(
-      [lo, hi, lo_open, range](std::string& text) -> std::string {
+      [](std::string& text) -> std::string {
         char* end = nullptr;
         const double x = std::strtod(text.c_str(), &end);
-        const bool parsed = !text.empty() && end == text.c_str() + text.size();
-        if (parsed && std::isfinite(x) && (lo_open ? x > lo : x >= lo) && x <= hi) return "";
-        return "must be a number in " + range + " (got '" + text + "')";
+        if (!text.empty() && end == text.c_str() + text.size() && std::isfinite(x) && x == std::floor(x) &&
+            std::abs(x) < 9e18) {
+          text = std::to_string(static_cast<long long>(x));
+        }
+        return "";
       },
-      range);
+      "INT");
 }
+
+}  // namespace
 
 CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   CLI::App* cmd = app.add_subcommand(
@@ -173,13 +182,14 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
                   "run experiments/scenes/ocp-NAME.toml")
       ->required();
   cmd->add_option("--form", o.form, "LGVI form: printed | symmetric (default: the scene's [integration] form)");
-  // Given options are checked when given (0 used to mean "the default" silently).
-  cmd->add_option("--h", o.h, "Time step (the horizon must be a whole number of steps; default: the scene's)")
-      ->check(number_in(0.0, 1e100, true, "(0, 1e100]"));
-  // At most 10^6 steps: the shooting keeps every step's state and sensitivities (1e8 steps ended
-  // in std::bad_alloc); the paper's problems take 1000.
-  cmd->add_option("--steps", o.steps, "Number of steps (instead of --h), 1 .. 1000000")
-      ->check(number_in(1.0, 1e6, false, "[1, 1000000]"));
+  // Every option given is checked against its stated range by run_ocp_command (which Python's
+  // solve_ocp runs too), not here: the ranges are the [ocp] table's (the options structs',
+  // lgvi/ocp), an error names the option. A 0 is a value like any other (it used to mean "the
+  // scene's" silently).
+  cmd->add_option("--h", o.h, "Time step, in (0, 1e100] (the horizon must be a whole number of steps, at most "
+                              "1000000; default: the scene's)");
+  cmd->add_option("--steps", o.steps, "Number of steps (instead of --h), in [1, 1000000]")
+      ->transform(integer_text());
   cmd->add_flag("--no-decomposition", o.no_decomposition,
                 "Indirect: invert the full (rank-deficient) sensitivity instead of its shape block");
   cmd->add_option("--merit", o.merit, "Indirect: line-search merit, velocity | momentum");
@@ -187,26 +197,38 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
                   "Indirect method: newton-armijo (the paper's) | levenberg-marquardt | homotopy "
                   "(Newton homotopy path following, then Newton-Armijo) | continuation (the same path, Hermite "
                   "predictor, Broyden corrector, Jacobians at path points only, then Newton-Armijo)");
-  cmd->add_option("--lm-damping", o.lm_damping, "Levenberg-Marquardt: initial damping mu_0 (relative to diag(J^T J))");
+  cmd->add_option("--lm-damping", o.lm_damping,
+                  "Levenberg-Marquardt: initial damping mu_0 (relative to diag(J^T J)), in " +
+                      ocp::ShootingOptions::kLmInitialDamping.text());
   cmd->add_option("--nonmonotone-memory", o.nonmonotone_memory,
                   "Newton-Armijo / homotopy end game: Armijo test against the largest merit of the last M "
-                  "accepted points (1: monotone)");
+                  "accepted points (1: monotone), in " + ocp::ShootingOptions::kNonmonotoneMemory.text())
+      ->transform(integer_text());
   cmd->add_option("--guess", o.guess,
                   "Indirect: initial multiplier lambda_0, comma-separated (2 n_q values: 6 pendulum and free body, "
-                  "12 dumbbell)")
+                  "12 dumbbell; each 0 or of magnitude in [1e-100, 1e100])")
       ->delimiter(',');
   cmd->add_option("--max-iterations", o.max_iterations,
-                  "Indirect: outer Newton iterations; direct: SLSQP evaluations (IPOPT iterations) per start");
-  cmd->add_option("--t-final", o.t_final, "Horizon (default: the scene's; the step stays the scene's h)")
-      ->check(number_in(0.0, 1e100, true, "(0, 1e100]"));
+                  "Indirect: outer Newton iterations, in " + ocp::ShootingOptions::kMaxIterations.text() +
+                      "; direct: SLSQP evaluations (IPOPT iterations) per start, in " +
+                      ocp::DirectOptions::kMaxEvaluations.text())
+      ->transform(integer_text());
+  cmd->add_option("--t-final", o.t_final, "Horizon, in (0, 1e100] (default: the scene's; the step stays the scene's h)");
   cmd->add_option("--sphere-radius", o.sphere_radius,
-                  "Dumbbell: radius of the two spheres (sets the rod-axis inertia; default: the scene's)");
+                  "Dumbbell: radius of the two spheres, in (0, 1e100] (sets the rod-axis inertia; default: the scene's)");
   cmd->add_option("--out", o.out, "Output directory")->capture_default_str();
-  cmd->add_option("--knots", o.knots, "Direct method: spline knots per control component");
+  cmd->add_option("--knots", o.knots,
+                  "Direct method: spline knots per control component, in " + ocp::DirectOptions::kKnots.text() +
+                      " (at most the grid's nodes)")
+      ->transform(integer_text());
   cmd->add_option("--spline", o.spline, "Direct method: spline end condition, not-a-knot | natural");
   cmd->add_option("--gradients", o.gradients, "Direct method: exact | finite-difference");
-  cmd->add_option("--tolerance", o.tolerance, "Direct method: bound on the terminal violation");
-  cmd->add_option("--starts", o.starts, "Direct method: SLSQP starts (the default guess, then seeded random knots)");
+  cmd->add_option("--tolerance", o.tolerance,
+                  "Direct method: bound on the terminal violation, in " + ocp::DirectOptions::kTolerance.text());
+  cmd->add_option("--starts", o.starts,
+                  "Direct method: SLSQP starts (the default guess, then seeded random knots), in " +
+                      ocp::DirectOptions::kStarts.text())
+      ->transform(integer_text());
   cmd->add_option("--solver", o.solver,
                   "Direct method: slsqp (the paper's single shooting) | ipopt (multiple shooting)");
   cmd->add_option("--hessian", o.hessian,
@@ -218,11 +240,15 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
                   "simulated (the guess control's run)");
   cmd->add_option("--shooting-interval", o.shooting_interval,
                   "Direct method, --solver ipopt: LGVI steps per shooting segment (1: every state a variable; "
-                  "default 40)");
-  cmd->add_option("--seed", o.seed, "Direct method: seed of the random starts");
+                  "default 40), in " + ocp::DirectOptions::kShootingInterval.text())
+      ->transform(integer_text());
+  cmd->add_option("--seed", o.seed, "Direct method: seed of the random starts, in " + ocp::DirectOptions::kSeed.text())
+      ->transform(integer_text());
   cmd->add_option("--first-start", o.first_start,
                   "Direct method: number of the first start run (0 = the default guess; K > 0 the K-th "
-                  "seeded random start), so one start of a multistart can be rerun alone")
+                  "seeded random start), so one start of a multistart can be rerun alone; in " +
+                      ocp::DirectOptions::kFirstStart.text())
+      ->transform(integer_text())
       ->capture_default_str();
   return cmd;
 }
@@ -248,9 +274,9 @@ void check_method_options(const OcpCommand& cmd, OcpMethod method) {
     const std::pair<const char*, bool> direct_only[] = {
         {"--knots", cmd.knots.has_value()},        {"--spline", cmd.spline.has_value()},
         {"--gradients", cmd.gradients.has_value()}, {"--tolerance", cmd.tolerance.has_value()},
-        {"--starts", cmd.starts != 0},             {"--solver", cmd.solver.has_value()},
+        {"--starts", cmd.starts.has_value()},      {"--solver", cmd.solver.has_value()},
         {"--hessian", cmd.hessian.has_value()},    {"--state-guess", cmd.state_guess.has_value()},
-        {"--shooting-interval", cmd.shooting_interval != 0}, {"--seed", cmd.seed.has_value()},
+        {"--shooting-interval", cmd.shooting_interval.has_value()}, {"--seed", cmd.seed.has_value()},
         {"--first-start", cmd.first_start != 0}};
     for (const auto& [name, given] : direct_only) {
       if (given) throw InvalidInput(name, "applies to the direct method only, not to " + cmd.system + scene_text);
@@ -285,7 +311,7 @@ int run_indirect(const Scene& scene, const M& m, const OcpCommand& cmd, const st
         throw InvalidInput("--merit", "must be 'velocity' or 'momentum' (got '" + *cmd.merit + "')");
       }
     }
-    if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 0");
+    using O = ocp::ShootingOptions;
     if (cmd.no_decomposition) options.decomposition = false;
     if (cmd.globalization) {
       try {
@@ -296,24 +322,25 @@ int run_indirect(const Scene& scene, const M& m, const OcpCommand& cmd, const st
       }
     }
     if (cmd.lm_damping) {
-      if (!(*cmd.lm_damping > 0.0) || !std::isfinite(*cmd.lm_damping)) {
-        throw InvalidInput("--lm-damping", "must be > 0");
-      }
-      options.lm_initial_damping = *cmd.lm_damping;
+      options.lm_initial_damping = ocp_output::option_number(*cmd.lm_damping, O::kLmInitialDamping, "--lm-damping");
     }
     if (cmd.nonmonotone_memory) {
-      if (*cmd.nonmonotone_memory < 1) throw InvalidInput("--nonmonotone-memory", "must be >= 1");
-      options.nonmonotone_memory = *cmd.nonmonotone_memory;
+      options.nonmonotone_memory =
+          ocp_output::option_int(*cmd.nonmonotone_memory, O::kNonmonotoneMemory, "--nonmonotone-memory");
     }
-    if (cmd.max_iterations > 0) options.max_iterations = cmd.max_iterations;
+    if (cmd.max_iterations) {
+      options.max_iterations = ocp_output::option_int(*cmd.max_iterations, O::kMaxIterations, "--max-iterations");
+    }
     const int n = 2 * B::IndirectModel::nq;
     if (!cmd.guess.empty()) {
       if (static_cast<int>(cmd.guess.size()) != n) {
         throw InvalidInput("--guess", "needs " + std::to_string(n) + " values for the " + scene.system() + " (got " +
                                           std::to_string(cmd.guess.size()) + ")");
       }
+      for (const double x : cmd.guess) require_admissible(x, "--guess");
       options.initial_multiplier = Eigen::Map<const Eigen::VectorXd>(cmd.guess.data(), n);
     }
+    ocp_output::validate_options(options, scene, "indirect");
     const ocp::TransferProblem problem =
         B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
     const auto system = ocp_output::with_sphere_radius(B::system(m), cmd.sphere_radius);
@@ -329,11 +356,14 @@ int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std:
   ocp_output::check_step_options(cmd);
   SceneOverrides overrides;
   if (cmd.form) overrides.form = ocp_output::parse_form(cmd);
-  if (cmd.t_final != 0.0) overrides.t_final = cmd.t_final;
-  if (cmd.h != 0.0) overrides.h = cmd.h;
+  overrides.t_final = cmd.t_final;
+  overrides.h = cmd.h;
+  // With --steps and --t-final the step is known at once (the scene's h over the new horizon
+  // may be more steps than an [ocp] scene takes); with --steps alone, from the scene's horizon.
+  if (cmd.steps && cmd.t_final) overrides.h = *cmd.t_final / static_cast<double>(*cmd.steps);
   Scene scene = load_scene(file, overrides);
-  if (cmd.steps > 0) {
-    overrides.h = scene.horizon.t_final / static_cast<double>(cmd.steps);
+  if (cmd.steps && !cmd.t_final) {
+    overrides.h = scene.horizon.t_final / static_cast<double>(*cmd.steps);
     scene = load_scene(file, overrides);
   }
   if (!scene.ocp) {

@@ -18,49 +18,47 @@
 
 namespace CLI {
 class App;
-class Validator;
 }
 
 namespace lgvi::experiments {
 
-/// The options of the `ocp` subcommand, filled by CLI11. The problem is a scene file with an [ocp]
-/// table (experiments/scene/ocp_scene.hpp); an option given here replaces the scene's value (an unset
-/// optional, or a 0 / empty value, leaves the scene's).
+/// The options of the `ocp` subcommand, filled by CLI11 (and by Python's solve_ocp). The problem
+/// is a scene file with an [ocp] table (experiments/scene/ocp_scene.hpp); an option given here
+/// replaces the scene's value, an unset one leaves it. Every value given is checked by
+/// run_ocp_command against its stated range, the one the [ocp] table's key has (the options
+/// structs' Ranges, lgvi/ocp/indirect.hpp and direct.hpp), an error naming the option and the
+/// range: `--max-iterations: must be an integer in [1, 1000000] (got 0)`.
 struct OcpCommand {
   /// A scene with an [ocp] table: a path, a name NAME of experiments/scenes/ocp-NAME.toml (the
   /// paper's examples: "dumbbell", "pendulum", "cart-pendulum", "connected-bodies"), or a scene
   /// name (resolve_ocp_scene).
   std::string system;
   std::optional<std::string> form;  ///< replaces [integration] form
-  double h = 0.0;           ///< 0: the scene's [integration] h
-  long long steps = 0;      ///< alternative to h: t_final / steps
+  std::optional<double> h;          ///< replaces [integration] h; (0, 1e100]
+  std::optional<long long> steps;   ///< instead of h: h = t_final / steps; [1, 10^6] (kOcpSteps)
   bool no_decomposition = false;
   std::optional<std::string> merit;
   std::optional<std::string> globalization;  ///< indirect: "newton-armijo", "levenberg-marquardt", "homotopy", "continuation"
   std::optional<double> lm_damping;          ///< indirect, levenberg-marquardt: initial damping mu_0
-  std::optional<int> nonmonotone_memory;     ///< indirect: Armijo test against the max merit of this many points
+  std::optional<long long> nonmonotone_memory;  ///< indirect: Armijo test against the max merit of this many points
   std::vector<double> guess;  ///< lambda_0; empty: the scene's
-  int max_iterations = 0;      ///< 0: the scene's (indirect max_iterations, direct max_evaluations)
-  double t_final = 0.0;        ///< 0: the scene's [integration] t_final
-  double sphere_radius = 0.0;  ///< dumbbell only; 0: the scene's
+  std::optional<long long> max_iterations;  ///< indirect max_iterations, direct max_evaluations
+  std::optional<double> t_final;            ///< replaces [integration] t_final; (0, 1e100]
+  std::optional<double> sphere_radius;      ///< dumbbell only
   std::string out = "results/ocp";
   // Direct method (experiments/ocp/ocp_direct_command.cpp).
-  std::optional<int> knots;               ///< per control component
+  std::optional<long long> knots;         ///< per control component
   std::optional<std::string> spline;      ///< "not-a-knot" or "natural"
   std::optional<std::string> gradients;   ///< "exact" or "finite-difference"
   std::optional<double> tolerance;        ///< on the terminal violation
-  int starts = 0;                         ///< multistart; 0: the scene's
+  std::optional<long long> starts;        ///< multistart
   std::optional<long long> seed;          ///< of the random starts
-  int first_start = 0;                    ///< run starts first_start .. first_start + starts - 1
+  long long first_start = 0;              ///< run starts first_start .. first_start + starts - 1 (0: the default guess first)
   std::optional<std::string> solver;      ///< "slsqp" or "ipopt" (multiple shooting; lgvi/ocp/README.md)
   std::optional<std::string> hessian;     ///< ipopt: "limited-memory", "cost" or "exact"
   std::optional<std::string> state_guess; ///< ipopt: "geodesic" or "simulated" (initial shooting states)
-  int shooting_interval = 0;              ///< ipopt: steps per shooting segment; 0: the scene's
+  std::optional<long long> shooting_interval;  ///< ipopt: steps per shooting segment
 };
-
-/// An option check: the value is a number in [lo, hi] (finite), else "must be a number in RANGE
-/// (got TEXT)" with `range` as the text of the range ("(0, 1e6]"). For CLI11's check().
-CLI::Validator number_in(double lo, double hi, bool lo_open, const std::string& range);
 
 /// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive
 /// parsing). Returns the subcommand, whose parsed() says whether it was chosen.

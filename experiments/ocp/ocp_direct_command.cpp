@@ -216,27 +216,24 @@ int run_direct_for(const Scene& scene, const M& m, const OcpCommand& cmd, const 
         throw InvalidInput("--gradients", "must be 'exact' or 'finite-difference' (got '" + *cmd.gradients + "')");
       }
     }
-    if (cmd.max_iterations < 0) throw InvalidInput("--max-iterations", "must be >= 1");
+    using O = ocp::DirectOptions;
     if (cmd.knots) {
-      if (*cmd.knots < 3) throw InvalidInput("--knots", "must be >= 3");
-      if (*cmd.knots != options.knots && options.initial_knots.size() > 0) {
+      const int knots = ocp_output::option_int(*cmd.knots, O::kKnots, "--knots");
+      if (knots != options.knots && options.initial_knots.size() > 0) {
         throw InvalidInput("--knots", "the scene's ocp.direct.initial_knots are for " + std::to_string(options.knots) +
                                           " knots");
       }
-      options.knots = *cmd.knots;
+      const std::size_t nodes = scene.horizon.steps + 1;
+      if (static_cast<std::size_t>(knots) > nodes) {
+        throw InvalidInput("--knots", "must be at most the grid's " + std::to_string(nodes) +
+                                          " nodes (steps + 1; got " + std::to_string(knots) + ")");
+      }
+      options.knots = knots;
     }
-    if (cmd.tolerance) {
-      if (!(*cmd.tolerance > 0.0) || !std::isfinite(*cmd.tolerance)) throw InvalidInput("--tolerance", "must be > 0");
-      options.tolerance = *cmd.tolerance;
-    }
-    if (cmd.starts < 0) throw InvalidInput("--starts", "must be >= 1");
-    if (cmd.starts > 0) options.starts = cmd.starts;
-    if (cmd.seed) {
-      if (*cmd.seed < 0) throw InvalidInput("--seed", "must be >= 0");
-      options.seed = static_cast<std::uint64_t>(*cmd.seed);
-    }
-    if (cmd.first_start < 0) throw InvalidInput("--first-start", "must be >= 0");
-    options.first_start = cmd.first_start;
+    if (cmd.tolerance) options.tolerance = ocp_output::option_number(*cmd.tolerance, O::kTolerance, "--tolerance");
+    if (cmd.starts) options.starts = ocp_output::option_int(*cmd.starts, O::kStarts, "--starts");
+    if (cmd.seed) options.seed = static_cast<std::uint64_t>(ocp_output::option_int(*cmd.seed, O::kSeed, "--seed"));
+    options.first_start = ocp_output::option_int(cmd.first_start, O::kFirstStart, "--first-start");
     if (cmd.solver) {
       try {
         options.solver = ocp::parse_direct_solver(*cmd.solver);
@@ -245,9 +242,14 @@ int run_direct_for(const Scene& scene, const M& m, const OcpCommand& cmd, const 
       }
     }
     const bool ipopt = options.solver == ocp::DirectSolver::IpoptMultipleShooting;
-    if (cmd.shooting_interval < 0) throw InvalidInput("--shooting-interval", "must be >= 1");
-    if (cmd.shooting_interval > 0 && !ipopt) throw InvalidInput("--shooting-interval", "applies to --solver ipopt only");
-    if (cmd.shooting_interval > 0) options.shooting_interval = cmd.shooting_interval;
+    // The IPOPT-only options are errors with SLSQP, as the [ocp.direct] keys are.
+    if (cmd.hessian && !ipopt) throw InvalidInput("--hessian", "applies to --solver ipopt only");
+    if (cmd.state_guess && !ipopt) throw InvalidInput("--state-guess", "applies to --solver ipopt only");
+    if (cmd.shooting_interval) {
+      if (!ipopt) throw InvalidInput("--shooting-interval", "applies to --solver ipopt only");
+      options.shooting_interval =
+          ocp_output::option_int(*cmd.shooting_interval, O::kShootingInterval, "--shooting-interval");
+    }
     if (cmd.hessian) {
       try {
         options.ipopt_hessian = ocp::parse_ipopt_hessian(*cmd.hessian);
@@ -262,11 +264,12 @@ int run_direct_for(const Scene& scene, const M& m, const OcpCommand& cmd, const 
         throw InvalidInput("--state-guess", "must be 'simulated' or 'geodesic' (got '" + *cmd.state_guess + "')");
       }
     }
-    if (cmd.max_iterations > 0) {
-      options.max_evaluations = cmd.max_iterations;
+    if (cmd.max_iterations) {
+      options.max_evaluations = ocp_output::option_int(*cmd.max_iterations, O::kMaxEvaluations, "--max-iterations");
     } else if (!d.max_evaluations_given) {
       options.max_evaluations = ipopt ? kMaxIpoptIterations : kMaxEvaluations;
     }
+    ocp_output::validate_options(options, scene, "direct");
     const auto problem = B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
     const auto& system = ocp_output::with_sphere_radius(B::system(m), cmd.sphere_radius);
     return solve_and_write<B>(system, problem, options, ocp_output::Run::of(scene), cmd, command_line, out, err);

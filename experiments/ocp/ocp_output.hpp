@@ -7,11 +7,14 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <filesystem>
 #include <initializer_list>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <system_error>
+#include <utility>
 
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/fields.hpp"
@@ -67,20 +70,54 @@ inline std::string weight_text(const Eigen::MatrixXd& W) {
   return join(Eigen::Map<const Eigen::VectorXd>(Wt.data(), Wt.size()));
 }
 
-/// --sphere-radius: the dumbbell with the spheres' radius r (0: unchanged). Throws InvalidInput
-/// naming --sphere-radius for a bad radius.
-inline DumbbellSpacecraft with_sphere_radius(const DumbbellSpacecraft& d, double r) {
-  if (r == 0.0) return d;
+/// The range of --h, --t-final and --sphere-radius: a positive number, at most the scene files'
+/// largest magnitude (lgvi/range.hpp); a horizon or step the scene cannot take is then the scene's
+/// error (integration.h (--h): ...).
+inline constexpr Range kPositiveOption = Range::above(0, kMaxMagnitude);
+
+/// A given integer option checked against `range` (the options struct's, which the [ocp] table's
+/// key is read against): its value as an int. Throws InvalidInput naming the option,
+/// "--starts: must be an integer in [1, 10000] (got 0)".
+inline int option_int(long long value, const Range& range, const char* option) {
+  range.require(static_cast<double>(value), option);
+  return static_cast<int>(value);
+}
+/// A given number option checked against `range`.
+inline double option_number(double value, const Range& range, const char* option) {
+  range.require(value, option);
+  return value;
+}
+
+/// The options struct's own check after the command's values replaced the scene's
+/// (ShootingOptions::validate, DirectOptions::validate; each given option was checked against the
+/// same range when it was read): a failure names the scene file and the [ocp] table's key.
+template <class Options>
+void validate_options(const Options& options, const Scene& scene, const std::string& table) {
   try {
-    return DumbbellSpacecraft(d.mass, d.mu, d.rho, r);
+    options.validate();
+  } catch (const InvalidInput& e) {
+    const std::string what = e.what();
+    throw SceneError(scene.file.string(), "ocp." + table + "." + e.field(),
+                     what.substr(std::min(what.size(), e.field().size() + 2)));
+  }
+}
+
+/// --sphere-radius: the dumbbell with the spheres' radius r (unset: unchanged). Throws
+/// InvalidInput naming --sphere-radius for a bad radius: outside kPositiveOption, or one that
+/// gives no valid inertia.
+inline DumbbellSpacecraft with_sphere_radius(const DumbbellSpacecraft& d, const std::optional<double>& r) {
+  if (!r) return d;
+  kPositiveOption.require(*r, "--sphere-radius");
+  try {
+    return DumbbellSpacecraft(d.mass, d.mu, d.rho, *r);
   } catch (const InvalidInput& e) {
     throw InvalidInput("--sphere-radius", e.what());
   }
 }
-/// Any other system has no sphere radius: r must be 0 (not given).
+/// Any other system has no sphere radius: r must not be given.
 template <class System>
-const System& with_sphere_radius(const System& s, double r) {
-  if (r != 0.0) throw InvalidInput("--sphere-radius", "applies to scenes with a sphere radius (the dumbbell's) only");
+const System& with_sphere_radius(const System& s, const std::optional<double>& r) {
+  if (r) throw InvalidInput("--sphere-radius", "applies to scenes with a sphere radius (the dumbbell's) only");
   return s;
 }
 
@@ -89,10 +126,13 @@ const System& with_sphere_radius(const System& s, double r) {
 int run_direct(const Scene& scene, const OcpCommand& cmd, const std::string& command_line, std::ostream& out,
                std::ostream& err);
 
-/// --h and --steps exclude each other; --steps, if given, is >= 1. Throws InvalidInput.
+/// --h and --steps exclude each other; each given one, and --t-final, in its range (--steps:
+/// kOcpSteps, the [ocp] scenes' step cap). Throws InvalidInput naming the option.
 inline void check_step_options(const OcpCommand& cmd) {
-  if (cmd.h != 0.0 && cmd.steps != 0) throw InvalidInput("--h", "give either --h or --steps, not both");
-  if (cmd.steps < 0) throw InvalidInput("--steps", "must be >= 1");
+  if (cmd.h && cmd.steps) throw InvalidInput("--h", "give either --h or --steps, not both");
+  if (cmd.h) kPositiveOption.require(*cmd.h, "--h");
+  if (cmd.t_final) kPositiveOption.require(*cmd.t_final, "--t-final");
+  if (cmd.steps) kOcpSteps.require(static_cast<double>(*cmd.steps), "--steps");
 }
 
 /// The output directory of one run and the three files every `ocp` run writes in it
@@ -119,9 +159,25 @@ inline Files create_files(const OcpCommand& cmd, const std::string& label) {
   return f;
 }
 
-/// The solver rejected its input: one "error: ocp SYSTEM: MESSAGE" line on err. Returns the exit
-/// status 1.
+/// The solver rejected its input: one "error: ocp SYSTEM: MESSAGE" line on err, or, when the
+/// field the solver names ("globalization: ...", "knots: ...") was set by a command-line option,
+/// "error: --globalization: ..." naming the option. Returns the exit status 1.
 inline int invalid_input(const OcpCommand& cmd, const std::string& message, std::ostream& err) {
+  const std::pair<const char*, std::pair<const char*, bool>> options[] = {
+      {"globalization", {"--globalization", cmd.globalization.has_value()}},
+      {"merit", {"--merit", cmd.merit.has_value()}},
+      {"knots", {"--knots", cmd.knots.has_value()}},
+      {"shooting_interval", {"--shooting-interval", cmd.shooting_interval.has_value()}},
+      {"initial_multiplier", {"--guess", !cmd.guess.empty()}},
+      {"h", {cmd.steps ? "--steps" : "--h", cmd.h.has_value() || cmd.steps.has_value()}},
+  };
+  for (const auto& [field, option] : options) {
+    const std::string prefix = std::string(field) + ": ";
+    if (option.second && message.rfind(prefix, 0) == 0) {
+      err << "error: " << option.first << ": " << message.substr(prefix.size()) << "\n" << std::flush;
+      return 1;
+    }
+  }
   err << "error: ocp " << cmd.system << ": " << message << "\n" << std::flush;
   return 1;
 }

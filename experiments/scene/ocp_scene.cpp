@@ -14,6 +14,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// The [ocp.indirect] / [ocp.direct] key of an options struct's member as validate() names it:
+/// "lm_initial_damping" is lm_damping, "initial_multiplier[2]" multiplier_guess, ...
+std::string ocp_table_key(const std::string& member) {
+  const std::string name = member.substr(0, member.find('['));
+  if (name == "lm_initial_damping") return "lm_damping";
+  if (name == "initial_multiplier") return "multiplier_guess";
+  if (name == "ipopt_hessian") return "hessian";
+  return name;
+}
+
 std::string list_text(std::initializer_list<const char*> names) {
   std::string s;
   for (const char* n : names) s += (s.empty() ? "'" : ", '") + std::string(n) + "'";
@@ -31,24 +41,41 @@ std::string choice(const SceneReader& r, const SceneTable& t, std::string_view k
   r.fail(t.path() + "." + std::string(key), "must be one of " + list_text(allowed) + " (got '" + value + "')");
 }
 
-/// An integer value of t in [lo, hi], else `fallback` when absent.
-int bounded_integer(const SceneReader& r, const SceneTable& t, std::string_view key, std::int64_t lo, std::int64_t hi,
-                    int fallback) {
+/// An integer value of t in `range` (the options struct's, lgvi/ocp), else `fallback` when absent.
+std::int64_t ranged_integer(const SceneReader& r, const SceneTable& t, std::string_view key, const Range& range,
+                            std::int64_t fallback) {
   if (!r.has(t, key)) return fallback;
   const std::int64_t v = r.integer(t, key);
-  if (v < lo || v > hi) {
-    r.fail(t.path() + "." + std::string(key), "must be an integer in [" + std::to_string(lo) + ", " +
-                                                  std::to_string(hi) + "] (got " + std::to_string(v) + ")");
-  }
-  return static_cast<int>(v);
+  const std::string problem = range.problem(static_cast<double>(v));
+  if (!problem.empty()) r.fail(t.path() + "." + std::string(key), problem);
+  return v;
 }
 
-/// A positive number of t, else `fallback` when absent.
-double positive(const SceneReader& r, const SceneTable& t, std::string_view key, double fallback) {
+int ranged_int(const SceneReader& r, const SceneTable& t, std::string_view key, const Range& range, int fallback) {
+  return static_cast<int>(ranged_integer(r, t, key, range, fallback));  // the ranges lie within int's
+}
+
+/// A number of t in `range`, else `fallback` when absent.
+double ranged_number(const SceneReader& r, const SceneTable& t, std::string_view key, const Range& range,
+                     double fallback) {
   if (!r.has(t, key)) return fallback;
   const double v = r.number(t, key);
-  if (!(v > 0.0)) r.fail(t.path() + "." + std::string(key), "must be > 0 (got " + shortest(v) + ")");
+  const std::string problem = range.problem(v);
+  if (!problem.empty()) r.fail(t.path() + "." + std::string(key), problem);
   return v;
+}
+
+/// The options' own check (ShootingOptions::validate, DirectOptions::validate: the ranges the
+/// keys were read against, and what they say of the values together), a failure named as the
+/// table's key ("ocp.indirect.lm_damping" for the member lm_initial_damping).
+template <class Options>
+void validate_table(const SceneReader& r, const SceneTable& t, const Options& o) {
+  try {
+    o.validate();
+  } catch (const InvalidInput& e) {
+    const std::string what = e.what();
+    r.fail(t.path() + "." + ocp_table_key(e.field()), what.substr(std::min(what.size(), e.field().size() + 2)));
+  }
 }
 
 /// W: an n x n matrix, symmetric (to 1e-12 of its largest entry) and positive definite (smallest
@@ -79,15 +106,17 @@ ocp::ShootingOptions read_indirect(const SceneReader& r, const std::optional<Sce
   if (!t) return o;
   r.check_keys(*t, {"multiplier_guess", "globalization", "lm_damping", "nonmonotone_memory", "merit", "decomposition",
                     "max_iterations", "tolerance"});
+  using O = ocp::ShootingOptions;
   if (r.has(*t, "multiplier_guess")) o.initial_multiplier = r.vector(*t, "multiplier_guess", multipliers);
   o.globalization = ocp::parse_globalization(
       choice(r, *t, "globalization", {"newton-armijo", "levenberg-marquardt", "homotopy", "continuation"}, "newton-armijo"));
-  o.lm_initial_damping = positive(r, *t, "lm_damping", o.lm_initial_damping);
-  o.nonmonotone_memory = bounded_integer(r, *t, "nonmonotone_memory", 1, 1000, o.nonmonotone_memory);
+  o.lm_initial_damping = ranged_number(r, *t, "lm_damping", O::kLmInitialDamping, o.lm_initial_damping);
+  o.nonmonotone_memory = ranged_int(r, *t, "nonmonotone_memory", O::kNonmonotoneMemory, o.nonmonotone_memory);
   o.merit = ocp::parse_merit(choice(r, *t, "merit", {"velocity", "momentum"}, "velocity"));
   if (r.has(*t, "decomposition")) o.decomposition = r.boolean(*t, "decomposition");
-  o.max_iterations = bounded_integer(r, *t, "max_iterations", 1, 1000000, o.max_iterations);
-  o.tolerance = positive(r, *t, "tolerance", o.tolerance);
+  o.max_iterations = ranged_int(r, *t, "max_iterations", O::kMaxIterations, o.max_iterations);
+  o.tolerance = ranged_number(r, *t, "tolerance", O::kTolerance, o.tolerance);
+  validate_table(r, *t, o);
   return o;
 }
 
@@ -97,15 +126,16 @@ ocp::DirectOptions read_direct(const SceneReader& r, const std::optional<SceneTa
   if (!t) return o;
   r.check_keys(*t, {"knots", "spline", "gradients", "tolerance", "starts", "seed", "solver", "max_evaluations",
                     "initial_knots", "hessian", "state_guess", "shooting_interval"});
-  o.knots = bounded_integer(r, *t, "knots", 3, 1000, o.knots);
+  using O = ocp::DirectOptions;
+  o.knots = ranged_int(r, *t, "knots", O::kKnots, o.knots);
   o.spline = ocp::parse_spline_end(choice(r, *t, "spline", {"not-a-knot", "natural"}, "not-a-knot"));
   o.gradients = ocp::parse_gradient_method(choice(r, *t, "gradients", {"exact", "finite-difference"}, "exact"));
-  o.tolerance = positive(r, *t, "tolerance", o.tolerance);
-  o.starts = bounded_integer(r, *t, "starts", 1, 10000, o.starts);
-  o.seed = static_cast<std::uint64_t>(bounded_integer(r, *t, "seed", 0, 2147483647, static_cast<int>(o.seed)));
+  o.tolerance = ranged_number(r, *t, "tolerance", O::kTolerance, o.tolerance);
+  o.starts = ranged_int(r, *t, "starts", O::kStarts, o.starts);
+  o.seed = static_cast<std::uint64_t>(ranged_integer(r, *t, "seed", O::kSeed, static_cast<std::int64_t>(o.seed)));
   o.solver = ocp::parse_direct_solver(choice(r, *t, "solver", {"slsqp", "ipopt"}, "slsqp"));
   cap_given = r.has(*t, "max_evaluations");
-  o.max_evaluations = bounded_integer(r, *t, "max_evaluations", 1, 100000000, o.max_evaluations);
+  o.max_evaluations = ranged_int(r, *t, "max_evaluations", O::kMaxEvaluations, o.max_evaluations);
   if (r.has(*t, "initial_knots")) o.initial_knots = r.vector(*t, "initial_knots", nu * o.knots);
   const bool ipopt = o.solver == ocp::DirectSolver::IpoptMultipleShooting;
   for (const char* key : {"hessian", "state_guess", "shooting_interval"}) {
@@ -113,7 +143,8 @@ ocp::DirectOptions read_direct(const SceneReader& r, const std::optional<SceneTa
   }
   o.ipopt_hessian = ocp::parse_ipopt_hessian(choice(r, *t, "hessian", {"limited-memory", "cost", "exact"}, "limited-memory"));
   o.state_guess = ocp::parse_shooting_state_guess(choice(r, *t, "state_guess", {"geodesic", "simulated"}, "geodesic"));
-  o.shooting_interval = bounded_integer(r, *t, "shooting_interval", 1, 1000000, o.shooting_interval);
+  o.shooting_interval = ranged_int(r, *t, "shooting_interval", O::kShootingInterval, o.shooting_interval);
+  validate_table(r, *t, o);
   return o;
 }
 

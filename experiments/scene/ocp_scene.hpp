@@ -20,6 +20,11 @@
 
 namespace lgvi::experiments {
 
+/// The steps (t_final / h) of a scene with an [ocp] table, whichever way h and t_final are given
+/// (the file, `ocp --h`, `--steps`, `--t-final`, Python): at most the solvers' kMaxOcpSteps
+/// (lgvi/range.hpp; 10^7 steps took 3.8 GB and wrote a 4.3 GB CSV).
+inline constexpr Range kOcpSteps = Range::integers(1, kMaxOcpSteps);
+
 enum class OcpMethod { Indirect, Direct };
 const char* to_string(OcpMethod m);
 

@@ -24,6 +24,7 @@
 #include "experiments/input/scene_reader.hpp"
 #include "experiments/input/toml_reader.hpp"
 #include "experiments/systems/systems.hpp"
+#include "lgvi/range.hpp"
 #include "lgvi/so3.hpp"
 
 namespace lgvi::experiments {
@@ -71,8 +72,7 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every, LastSt
   require_positive(h, "h");
   require_positive(t_final, "t_final");
   const double n = t_final / h;
-  constexpr double kMaxSteps = 1e12;
-  if (!(n <= kMaxSteps)) {
+  if (!(n <= kMaxSteps)) {  // lgvi/range.hpp
     throw InvalidInput("t_final", "needs too many steps (t_final / h = " + format_number(n) +
                                       ", limit " + format_number(kMaxSteps) + ")");
   }
@@ -175,6 +175,17 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
       r.fail("integration.last_step", "\"shorter\" is not allowed with [ocp]: the optimal control problem needs "
                                       "t_final a whole number of steps of h");
     }
+    if (!kOcpSteps.contains(static_cast<double>(scene.horizon.steps))) {
+      // Named by the value that set the number of steps: t_final when only it came from the
+      // command line, else h (with the option that gave it).
+      const std::string field = overrides.t_final && !overrides.h ? "integration.t_final (--t-final)"
+                                : overrides.h                     ? "integration.h (--h)"
+                                                                  : "integration.h";
+      r.fail(field, "gives " + std::to_string(scene.horizon.steps) + " steps (t_final / h, t_final = " +
+                        format_number(scene.horizon.t_final) + ", h = " + format_number(scene.horizon.h) +
+                        "); a scene with [ocp] takes at most " + Range::text(kOcpSteps.hi) +
+                        " (its solvers keep every step's state and sensitivities)");
+    }
     scene.ocp = read_ocp_table(reader, scene.model, SceneTableAccess::make(*parameters, "parameters"),
                                SceneTableAccess::make(*ocp, "ocp"));
   }
@@ -187,9 +198,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   // [control] and would print a line on every run, and absent optional keys (form,
   // output_every, phase) would still pass unreported; an optional end marker cannot be told
   // missing from a file written without one.
-  if (!toml_text.empty() && toml_text.back() != '\n') {
-    scene.warnings.push_back(join_message(file_name, "", "does not end with a newline: the file may be truncated"));
-  }
+  if (const auto warning = truncation_warning(toml_text, file_name)) scene.warnings.push_back(*warning);
   scene.inputs = reader.inputs();
   return scene;
 }
@@ -201,19 +210,7 @@ Scene parse_scene_file(const fs::path& file, const SceneOverrides& overrides) {
 
 Scene load_scene(const fs::path& file, const SceneOverrides& overrides) {
   Scene scene = parse_scene_file(file, overrides);
-  std::error_code ec;
-  // Once per file: a suite or study loads its scene once per case.
-  static std::mutex warned_mutex;
-  static std::set<std::string> warned;
-  if (!scene.warnings.empty()) {
-    const std::lock_guard lock(warned_mutex);
-    if (warned.insert(fs::absolute(file, ec).lexically_normal().string()).second) {
-      std::string lines;
-      for (const std::string& w : scene.warnings) lines += "warning: " + w + "\n";
-      std::fputs(lines.c_str(), stderr);
-      std::fflush(stderr);
-    }
-  }
+  warn_once(file, scene.warnings);
   return scene;
 }
 

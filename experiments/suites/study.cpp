@@ -12,6 +12,7 @@
 
 #include <toml++/toml.h>
 
+#include "baselines/tolerance.hpp"
 #include "experiments/output/data_dir.hpp"
 #include "experiments/systems/exact_reference.hpp"
 #include "experiments/scene/scene.hpp"
@@ -34,9 +35,11 @@ constexpr std::string_view kQuickKeys[] = {"scenes",  "methods",          "h",  
                                            "reference", "metrics",        "samples", "adaptive_samples", "probes"};
 constexpr std::string_view kSceneKeys[] = {"scene", "horizons", "h", "steps", "tolerances"};
 constexpr std::string_view kMethodKeys[] = {"method", "model", "where"};
+/// samples and adaptive_samples: rows per run, at most 10^7 (a case's CSV of 10^7 rows is about
+/// 2 GB; adaptive_samples = 10^13, a grid of more steps than a horizon may have, was refused
+/// naming the scene file's "integration.t_final (--t-final, h from --h)" instead of this key).
+constexpr Range kStudySamples = Range::integers(1, 1e7);
 constexpr std::string_view kReferenceKeys[] = {"kind", "method", "model", "h", "steps", "rtol"};
-/// The bound `simulate --rtol` states: above 0.1 a run is no solution.
-constexpr double kMaxRtol = 0.1;
 
 std::string join(std::span<const std::string_view> items) {
   std::string s;
@@ -99,6 +102,31 @@ struct Reference {
   std::optional<std::int64_t> steps;
   std::string field = "reference";
 };
+
+/// A tolerance: a number in the adaptive methods' range (baselines/tolerance.hpp), the check
+/// `simulate --rtol` and make_method apply.
+double read_tolerance(const StudyReader& r, const toml::node& n, const std::string& field) {
+  const double x = r.finite_number(n, field);
+  try {
+    baselines::check_tolerance(x, field);
+  } catch (const InvalidInput& e) {
+    r.fail(field, reason_of(e));
+  }
+  return x;
+}
+
+/// A sweep of tolerances (read_tolerance), without repeats.
+std::vector<double> tolerance_sweep(const StudyReader& r, const toml::node& n, const std::string& field) {
+  std::vector<double> v;
+  const toml::array& a = r.sweep(n, field);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::string f = field + "[" + std::to_string(i) + "]";
+    const double x = read_tolerance(r, *a.get(i), f);
+    if (std::find(v.begin(), v.end(), x) != v.end()) r.fail(f, "repeats " + format_number(x));
+    v.push_back(x);
+  }
+  return v;
+}
 
 FixedSweep read_fixed_sweep(const StudyReader& r, const toml::node* h, const std::string& h_field,
                             const toml::node* steps, const std::string& steps_field) {
@@ -230,9 +258,7 @@ Reference read_reference(const StudyReader& r) {
       r.fail(field + (h != nullptr ? ".h" : ".steps"), "applies to a fixed-step method; " + spec.method + " takes rtol");
     }
     if (rtol == nullptr) r.fail(field + ".rtol", "is required for the adaptive " + spec.method);
-    const double x = r.positive(*rtol, field + ".rtol");
-    if (x > kMaxRtol) r.fail(field + ".rtol", "must be at most 0.1 (got " + format_number(x) + ")");
-    ref.options.rtol = x;
+    ref.options.rtol = read_tolerance(r, *rtol, field + ".rtol");
   }
   return ref;
 }
@@ -291,7 +317,7 @@ SceneEntry read_scene(const StudyReader& r, const toml::node& n, const std::stri
     e.fixed = read_fixed_sweep(r, t->get("h"), field + ".h", t->get("steps"), field + ".steps");
     if (const toml::node* tol = t->get("tolerances")) {
       e.tolerances_field = field + ".tolerances";
-      e.tolerances = r.positive_sweep(*tol, e.tolerances_field, kMaxRtol);
+      e.tolerances = tolerance_sweep(r, *tol, e.tolerances_field);
     }
   }
   return e;
@@ -385,7 +411,9 @@ std::string read_study_file(const fs::path& file) { return read_toml_file(file, 
 fs::path default_studies_dir() { return data_dir("studies", "experiments/studies"); }
 
 Suite load_study(const fs::path& file, const SuiteParams& params) {
-  return parse_study(read_study_file(file), file, params);
+  Suite s = parse_study(read_study_file(file), file, params);
+  warn_once(file, s.warnings);
+  return s;
 }
 
 Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteParams& params) {
@@ -453,22 +481,32 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
   }
 
   // Sweeps and sampling shared by the scenes.
-  const auto get_list = [&](std::string_view key, std::optional<double> max) {
-    const auto [node, field] = r.get(key);
-    return std::make_pair(node == nullptr ? std::vector<double>{} : r.positive_sweep(*node, field, max), field);
-  };
-  const auto [horizons, horizons_field] = get_list("horizons", std::nullopt);
-  const auto [tolerances, tolerances_field] = get_list("tolerances", kMaxRtol);
+  const auto [horizons, horizons_field] = [&] {
+    const auto [node, field] = r.get("horizons");
+    return std::make_pair(node == nullptr ? std::vector<double>{} : r.positive_sweep(*node, field), field);
+  }();
+  const std::vector<double> tolerances = [&] {
+    const auto [node, field] = r.get("tolerances");
+    return node == nullptr ? std::vector<double>{} : tolerance_sweep(r, *node, field);
+  }();
   const auto h_value = r.get("h");
   const auto steps_value = r.get("steps");
   const FixedSweep fixed = read_fixed_sweep(r, h_value.node, h_value.field, steps_value.node, steps_value.field);
-  const auto integer_key = [&](std::string_view key, std::int64_t fallback, std::int64_t min) {
+  // An integer key in its range; the message says what the value is for and what is allowed.
+  const auto integer_key = [&](std::string_view key, std::int64_t fallback, const Range& range, const char* what) {
     const auto [node, field] = r.get(key);
-    return node == nullptr ? fallback : r.integer_at_least(*node, field, min);
+    if (node == nullptr) return fallback;
+    const std::int64_t v = r.integer(*node, field);
+    if (!range.contains(static_cast<double>(v))) r.fail(field, range.problem(static_cast<double>(v)) + ": " + what);
+    return v;
   };
-  const std::int64_t samples = integer_key("samples", 100, 1);
-  const std::int64_t adaptive_samples = integer_key("adaptive_samples", samples, 1);
-  const auto probes = static_cast<std::size_t>(integer_key("probes", 0, 0));
+  const std::int64_t samples =
+      integer_key("samples", 100, kStudySamples, "the rows written per fixed-step run (every K-th step, K = steps / samples)");
+  const std::int64_t adaptive_samples = integer_key(
+      "adaptive_samples", samples, kStudySamples,
+      "the intervals of the adaptive runs' output grid (its step is T / adaptive_samples; one row per grid time)");
+  const auto probes = static_cast<std::size_t>(integer_key(
+      "probes", 0, Range::integers(0, 1000), "how many of the largest h of each fixed-step sweep are probes"));
 
   // Scenes, each loaded (its own errors name its file).
   std::vector<SceneEntry> scenes;
@@ -652,6 +690,10 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
     }
   }
   if (s.cases.empty()) r.fail("methods", "the study has no cases");
+  // A file cut short, by the scene files' rule (toml_text.hpp): a last line without its newline
+  // is warned about; a cut at a line boundary is refused by the shipped studies' order (their
+  // last line is a required key; experiments/studies/README.md, "A file cut short").
+  if (const auto warning = truncation_warning(toml_text, file_name)) s.warnings.push_back(*warning);
   s.render = study_renderer(s.name, metrics);
   return s;
 }

@@ -205,6 +205,8 @@ struct Suite {
   /// as_expected, detail); every case of the suite has them, empty where they do not apply.
   std::vector<std::string> columns;
   SuiteRenderer render;  ///< may be empty (no figures)
+  /// A study file's warnings (truncation_warning: no final newline); load_study prints them.
+  std::vector<std::string> warnings;
 };
 
 struct SuiteParams {

@@ -19,6 +19,21 @@
 
 namespace lgvi::ocp {
 
+void DirectOptions::validate() const {
+  kKnots.require(knots, "knots");
+  kShootingInterval.require(shooting_interval, "shooting_interval");
+  kMaxEvaluations.require(max_evaluations, "max_evaluations");
+  kTolerance.require(tolerance, "tolerance");
+  Range::open(0, 1).require(ftol_rel, "ftol_rel");
+  Range::numbers(0, kMaxMagnitude).require(objective_scale, "objective_scale");
+  Range::numbers(0, kMaxMagnitude).require(guess_scale, "guess_scale");
+  kStarts.require(starts, "starts");
+  kFirstStart.require(first_start, "first_start");
+  for (Eigen::Index i = 0; i < initial_knots.size(); ++i) {
+    require_admissible(initial_knots(i), "initial_knots[" + std::to_string(i) + "]");
+  }
+}
+
 using so3::hat;
 
 // --- problems ----------------------------------------------------------------------------------
@@ -208,6 +223,7 @@ const char* to_string(DirectStatus s) {
     case DirectStatus::SimulationFailed: return "simulation failed";
     case DirectStatus::SolverFailure: return "solver failure";
     case DirectStatus::InvalidInput: return "invalid input";
+    case DirectStatus::NonFiniteValue: return "non-finite value";
   }
   return "unknown";
 }
@@ -270,10 +286,11 @@ std::size_t whole_steps(double t_final, double h) {
   require_positive(h, "h");
   require_positive(t_final, "t_final");
   const double n = t_final / h;
-  if (!(n >= 0.5) || n > 1e8 || std::abs(n - std::round(n)) > 1e-9 * n) {
+  if (!(n >= 0.5) || n > kMaxOcpSteps + 0.5 || std::abs(n - std::round(n)) > 1e-9 * n) {
     std::ostringstream s;
     s.precision(17);
-    s << "the horizon t_final = " << t_final << " is not a whole number of steps h = " << h;
+    s << "the horizon t_final = " << t_final << " is not a whole number of steps h = " << h << " (t_final / h = " << n
+      << "; need an integer between 1 and " << Range::text(kMaxOcpSteps) << ", lgvi/range.hpp)";
     throw InvalidInput("h", s.str());
   }
   return static_cast<std::size_t>(std::llround(n));
@@ -870,17 +887,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<DirectTranscription<Model>> tr;
   try {
-    if (options.max_evaluations < 1) throw InvalidInput("max_evaluations", "must be >= 1");
-    if (!(options.tolerance > 0.0)) throw InvalidInput("tolerance", "must be > 0");
-    if (options.starts < 1) throw InvalidInput("starts", "must be >= 1");
-    if (options.first_start < 0) throw InvalidInput("first_start", "must be >= 0");
-    if (options.shooting_interval < 1) throw InvalidInput("shooting_interval", "must be >= 1");
-    if (!(options.objective_scale >= 0.0) || !std::isfinite(options.objective_scale)) {
-      throw InvalidInput("objective_scale", "must be finite and >= 0");
-    }
-    if (!(options.guess_scale >= 0.0) || !std::isfinite(options.guess_scale)) {
-      throw InvalidInput("guess_scale", "must be finite and >= 0");
-    }
+    options.validate();
     tr = std::make_unique<DirectTranscription<Model>>(system, problem, options);
     S.initial_knots = options.initial_knots.size() > 0 ? options.initial_knots
                                                        : default_initial_knots(system, options.knots);
@@ -900,6 +907,7 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
   // Start 0 from the given (or default) guess; starts 1.. from seeded N(0, sigma^2) knot values.
   // The result is the feasible start of lowest cost (else the least infeasible).
   int best = -1;
+  std::string non_finite;  // the first start with a non-finite value, and where
   Eigen::VectorXd best_x;
   typename DirectTranscription<Model>::Evaluation best_e;
   for (int i = 0; i < options.starts; ++i) {
@@ -946,12 +954,31 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
                                                       : DirectStatus::Infeasible;
     }
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // A non-finite value in the start's history or result makes it a failure of its own.
+    bool finite = true;
+    if (ok) {
+      std::string where;
+      for (std::size_t h = history_before; h < S.history.size() && where.empty(); ++h) {
+        const DirectIteration& it = S.history[h];
+        if (!std::isfinite(it.cost)) where = "cost = " + std::to_string(it.cost);
+        if (!std::isfinite(it.violation)) where = "violation = " + std::to_string(it.violation);
+        if (!where.empty()) where += " at evaluation " + std::to_string(it.evaluation);
+      }
+      if (where.empty() && !std::isfinite(st.cost)) where = "cost = " + std::to_string(st.cost);
+      if (where.empty() && !std::isfinite(st.violation)) where = "violation = " + std::to_string(st.violation);
+      if (where.empty() && !x.allFinite()) where = "a knot value is not finite";
+      if (!where.empty()) {
+        finite = false;
+        st.status = DirectStatus::NonFiniteValue;
+        if (non_finite.empty()) non_finite = "start " + std::to_string(k) + ": " + where;
+      }
+    }
     const auto better = [&](const DirectStart& a, const DirectStart& b) {
       const bool fa = a.violation <= options.tolerance, fb = b.violation <= options.tolerance;
       if (fa != fb) return fa;
       return fa ? a.cost < b.cost : a.violation < b.violation;
     };
-    if (ok && (best < 0 || better(st, S.starts[best]))) {
+    if (ok && finite && (best < 0 || better(st, S.starts[best]))) {
       best = i;
       best_x = x;
       best_e = e;
@@ -963,7 +990,11 @@ DirectResult<Model> solve(const typename Model::System& system, const typename M
     S.iterations += st.iterations;
     S.evaluations += st.evaluations;
   }
-  if (best < 0) {
+  if (best < 0 && !non_finite.empty()) {
+    S.status = DirectStatus::NonFiniteValue;
+    S.message = non_finite;
+    S.knot_values = S.starts.back().knot_values;
+  } else if (best < 0) {
     S.status = DirectStatus::SimulationFailed;
     S.message = S.last_failure.empty() ? "every start's returned point failed to simulate" : S.last_failure;
     S.knot_values = S.starts.back().knot_values;

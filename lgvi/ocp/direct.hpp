@@ -36,6 +36,7 @@
 #include <Eigen/Dense>
 
 #include "lgvi/multibody_lgvi.hpp"
+#include "lgvi/range.hpp"
 #include "lgvi/ocp/spline.hpp"
 
 namespace lgvi::ocp {
@@ -214,6 +215,26 @@ struct DirectOptions {
   /// empty: the model's default (all but the redundant ones). Overrides keep_redundant_constraint.
   std::vector<int> constraint_rows;
   GroupNewtonOptions newton;
+
+  // The ranges of the settings (the [ocp.direct] table, the ocp command's options and the
+  // Python module state and check the same, through validate() or these Ranges).
+  static constexpr Range kKnots = Range::integers(3, 1000);
+  static constexpr Range kShootingInterval = Range::integers(1, 1e6);
+  static constexpr Range kMaxEvaluations = Range::integers(1, 1e8);
+  /// On the violation (2-norm; rad, m, rad/s, m/s): above 0.1 no solution of the transfer.
+  static constexpr Range kTolerance = Range::above(0, 0.1);
+  static constexpr Range kStarts = Range::integers(1, 10000);
+  /// Start K draws K knot sets from the seeded sequence: 10^6 of them take a fraction of a second.
+  static constexpr Range kFirstStart = Range::integers(0, 1e6);
+  /// The seeds a reader of the options accepts (a scene's integer, a command-line option; the
+  /// generator takes any 64-bit seed, validate() does not check it).
+  static constexpr Range kSeed = Range::integers(0, 2147483647);
+
+  /// Throws InvalidInput naming the first setting outside its range (by its member's name:
+  /// "knots", "max_evaluations") with the range and the value, "must be an integer in [3, 1000]
+  /// (got 2)"; an initial_knots entry that is not finite or not admissible (range.hpp). The
+  /// sizes and the knots' fit in the grid are the transcription's (DirectTranscription).
+  void validate() const;
 };
 
 enum class DirectStatus {
@@ -224,6 +245,9 @@ enum class DirectStatus {
   SimulationFailed,  ///< a rotation update did not converge (message: step, time, residual)
   SolverFailure,     ///< any other NLopt failure
   InvalidInput,      ///< bad problem or options (message names the field)
+  /// A start's history or result holds a non-finite value (the summary's message names the first
+  /// such start and value); the start is not a candidate for the best.
+  NonFiniteValue,
 };
 const char* to_string(DirectStatus s);
 

@@ -14,6 +14,28 @@
 
 namespace lgvi::ocp {
 
+void ShootingOptions::validate() const {
+  if (initial_multiplier.size() != 0) {
+    for (Eigen::Index i = 0; i < initial_multiplier.size(); ++i) {
+      require_admissible(initial_multiplier(i), "initial_multiplier[" + std::to_string(i) + "]");
+    }
+  }
+  kMaxIterations.require(max_iterations, "max_iterations");
+  kMaxBacktracks.require(max_backtracks, "max_backtracks");
+  Range::open(0, 1).require(armijo, "armijo");
+  kTolerance.require(tolerance, "tolerance");
+  kPolishIterations.require(polish_iterations, "polish_iterations");
+  kLmInitialDamping.require(lm_initial_damping, "lm_initial_damping");
+  kNonmonotoneMemory.require(nonmonotone_memory, "nonmonotone_memory");
+  Range::above(0, 1).require(homotopy_initial_step, "homotopy_initial_step");
+  const ContinuationSettings& c = continuation;
+  Range::above(0, 1).require(c.initial_step, "continuation.initial_step");
+  Range::open(0, 1).require(c.predictor_target, "continuation.predictor_target");
+  Range::open(0, 1).require(c.corrector_tolerance, "continuation.corrector_tolerance");
+  Range::integers(0, 1000).require(c.max_corrector, "continuation.max_corrector");
+  Range::numbers(1, 1e6).require(c.max_growth, "continuation.max_growth");
+}
+
 // --- problems ----------------------------------------------------------------------------------
 
 TransferProblem TransferProblem::pendulum_paper() {
@@ -85,6 +107,7 @@ const char* to_string(ShootingStatus s) {
     case ShootingStatus::SingularSensitivity: return "singular sensitivity";
     case ShootingStatus::SweepFailed: return "sweep failed";
     case ShootingStatus::InvalidInput: return "invalid input";
+    case ShootingStatus::NonFiniteValue: return "non-finite value";
   }
   return "unknown";
 }
@@ -102,6 +125,43 @@ std::string ShootingSummary::brief() const {
                 cond_full_min, cond_full_max, wall_seconds, message.empty() ? "" : ": ", message.c_str());
   return buf;
 }
+
+namespace {
+
+/// The first non-finite value of a finished run's history and result ("cond_sensitivity = inf
+/// at outer iteration 3", "multiplier[2] = nan"), or "" when all are finite.
+std::string first_non_finite(const ShootingSummary& S) {
+  const auto text = [](const char* name, double v, const std::string& where) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s = %g%s", name, v, where.c_str());
+    return std::string(buf);
+  };
+  for (const IterationRecord& r : S.history) {
+    const std::string at = " at outer iteration " + std::to_string(r.iteration);
+    const std::pair<const char*, double> values[] = {
+        {"violation", r.violation},         {"cost", r.cost},           {"step_length", r.step_length},
+        {"cond_sensitivity", r.cond_sensitivity}, {"cond_inverted", r.cond_inverted}, {"step_norm", r.step_norm},
+        {"group_residual", r.group_residual}, {"group_block", r.group_block}, {"seconds", r.seconds}};
+    for (const auto& [name, v] : values) {
+      if (!std::isfinite(v)) return text(name, v, at);
+    }
+  }
+  const std::pair<const char*, double> result[] = {{"cost", S.cost},         {"violation", S.violation},
+                                                   {"cond_min", S.cond_min}, {"cond_max", S.cond_max},
+                                                   {"cond_full_min", S.cond_full_min},
+                                                   {"cond_full_max", S.cond_full_max}};
+  for (const auto& [name, v] : result) {
+    if (!std::isfinite(v)) return text(name, v, " in the result");
+  }
+  for (const auto& [name, v] : {std::pair{"residual", &S.residual}, std::pair{"multiplier", &S.multiplier}}) {
+    for (Eigen::Index i = 0; i < v->size(); ++i) {
+      if (!std::isfinite((*v)(i))) return text((std::string(name) + "[" + std::to_string(i) + "]").c_str(), (*v)(i), "");
+    }
+  }
+  return "";
+}
+
+}  // namespace
 
 // --- the state-multiplier flow -------------------------------------------------------------
 
@@ -150,11 +210,12 @@ StateMultiplierFlow<Model>::StateMultiplierFlow(const System& system, const Tran
   require_positive(h, "h");
   require_positive(p.t_final, "t_final");
   const double n = p.t_final / h;
-  if (!(n >= 0.5) || n > 1e8 || std::abs(n - std::round(n)) > 1e-9 * n) {
+  if (!(n >= 0.5) || n > kMaxOcpSteps + 0.5 || std::abs(n - std::round(n)) > 1e-9 * n) {
     std::ostringstream s;
     s.precision(17);
     s << "the horizon t_final = " << p.t_final << " is not a whole number of steps h = " << h
-      << " (t_final / h = " << n << "; need an integer between 1 and 1e8)";
+      << " (t_final / h = " << n << "; need an integer between 1 and " << Range::text(kMaxOcpSteps)
+      << ", lgvi/range.hpp)";
     throw InvalidInput("h", s.str());
   }
   steps_ = static_cast<std::size_t>(std::llround(n));
@@ -423,38 +484,14 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
         throw InvalidInput("initial_multiplier", "must have " + std::to_string(ns) + " entries (got " +
                                                      std::to_string(o.initial_multiplier.size()) + ")");
       }
-      require_finite(o.initial_multiplier, "initial_multiplier");
       lambda = o.initial_multiplier;
     }
-    if (o.max_iterations < 0) throw InvalidInput("max_iterations", "must be >= 0");
-    if (o.max_backtracks < 0) throw InvalidInput("max_backtracks", "must be >= 0");
-    if (!(o.armijo > 0.0 && o.armijo < 1.0)) throw InvalidInput("armijo", "must lie in (0, 1)");
-    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw InvalidInput("tolerance", "must be finite and > 0");
-    if (o.polish_iterations < 0) throw InvalidInput("polish_iterations", "must be >= 0");
-    if (!(o.lm_initial_damping > 0.0) || !std::isfinite(o.lm_initial_damping)) {
-      throw InvalidInput("lm_initial_damping", "must be finite and > 0");
-    }
+    o.validate();
     if ((o.globalization == Globalization::Homotopy || o.globalization == Globalization::Continuation) &&
         Model::has_symmetry) {
       throw InvalidInput("globalization", std::string(to_string(o.globalization)) +
                                               " inverts the full sensitivity: not for a system with a symmetry "
                                               "(the pendulum's is singular)");
-    }
-    if (o.nonmonotone_memory < 1) throw InvalidInput("nonmonotone_memory", "must be >= 1");
-    if (!(o.homotopy_initial_step > 0.0 && o.homotopy_initial_step <= 1.0)) {
-      throw InvalidInput("homotopy_initial_step", "must lie in (0, 1]");
-    }
-    const ContinuationSettings& c = o.continuation;
-    if (!(c.initial_step > 0.0 && c.initial_step <= 1.0)) throw InvalidInput("continuation.initial_step", "must lie in (0, 1]");
-    if (!(c.predictor_target > 0.0 && c.predictor_target < 1.0)) {
-      throw InvalidInput("continuation.predictor_target", "must lie in (0, 1)");
-    }
-    if (!(c.corrector_tolerance > 0.0 && c.corrector_tolerance < 1.0)) {
-      throw InvalidInput("continuation.corrector_tolerance", "must lie in (0, 1)");
-    }
-    if (c.max_corrector < 0) throw InvalidInput("continuation.max_corrector", "must be >= 0");
-    if (!(c.max_growth >= 1.0) || !std::isfinite(c.max_growth)) {
-      throw InvalidInput("continuation.max_growth", "must be finite and >= 1");
     }
   } catch (const InvalidInput& e) {
     S.status = ShootingStatus::InvalidInput;
@@ -538,6 +575,15 @@ ShootingResult<Model> shoot(const typename Model::System& system, const Transfer
     newton_continuation(sweeps, newton, lambda, current, S, o.continuation);
   }
   newton_armijo_shooting(sweeps, newton, lambda, current, S);
+  // A non-finite value in the history or the result is a failure of its own (not for the
+  // statuses that are about one already: a singular Newton system, a failed sweep).
+  if (S.status != ShootingStatus::SingularSensitivity && S.status != ShootingStatus::SweepFailed) {
+    const std::string where = first_non_finite(S);
+    if (!where.empty()) {
+      S.status = ShootingStatus::NonFiniteValue;
+      S.message = where;
+    }
+  }
   return result;
 }
 

@@ -42,6 +42,7 @@
 #include <Eigen/Dense>
 
 #include "lgvi/lgvi.hpp"
+#include "lgvi/range.hpp"
 #include "lgvi/ocp/linearization.hpp"
 #include "lgvi/ocp/models.hpp"
 
@@ -80,6 +81,10 @@ enum class ShootingStatus {
   SingularSensitivity,  ///< the Newton system could not be solved (non-finite step)
   SweepFailed,          ///< the sweep from the initial guess failed (rotation update)
   InvalidInput,         ///< bad problem or options (message names the field)
+  /// A value of the iteration history or of the result is not finite (the message names it and
+  /// the iteration): never a success (or an iteration limit, a line search failure) with an inf
+  /// or NaN in its files. SingularSensitivity and SweepFailed keep their own status.
+  NonFiniteValue,
 };
 const char* to_string(ShootingStatus s);
 
@@ -149,6 +154,26 @@ struct ShootingOptions {
   /// the violation (reaches the round-off floor).
   int polish_iterations = 3;
   RotationUpdateOptions rotation;
+
+  // The ranges of the settings (the [ocp.indirect] table, the ocp command's options and the
+  // Python module state and check the same, through validate() or these Ranges).
+  static constexpr Range kMaxIterations = Range::integers(1, 1e6);
+  static constexpr Range kMaxBacktracks = Range::integers(0, 1000);  ///< 2^-1000 underflows a step
+  /// Levenberg-Marquardt's damping is adapted by factors of 2-10 per iteration; a start above
+  /// 1e10 diag(J^T J) takes steps of 1e-10 of a gradient step and spends the iteration cap first.
+  static constexpr Range kLmInitialDamping = Range::above(0, 1e10);
+  static constexpr Range kNonmonotoneMemory = Range::integers(1, 1000);
+  /// On the violation |r| (rad, rad/s, ...): above 0.1 the terminal state is missed by more than
+  /// the attitude of 6 deg, no solution of the transfer.
+  static constexpr Range kTolerance = Range::above(0, 0.1);
+  static constexpr Range kPolishIterations = Range::integers(0, 100);
+
+  /// Throws InvalidInput naming the first setting outside its range (by its member's name:
+  /// "max_iterations", "lm_initial_damping", "continuation.max_growth") with the range and the
+  /// value, "must be an integer in [1, 1000000] (got 0)"; an initial_multiplier entry that is
+  /// not finite or not admissible (range.hpp: 0 or of magnitude in [1e-100, 1e100]). Its size is
+  /// the model's (solve_indirect checks it). h and W are the flow's (StateMultiplierFlow).
+  void validate() const;
 };
 
 /// One outer Newton-Armijo iteration (the state at its start and the step it took).

@@ -225,3 +225,31 @@ def test_the_hairer_lubich_wanner_body_runs_with_its_key():
         lgvi.FreeRigidBody(np.array([2.0, 1.0, 2.0 / 3.0]))
     body = lgvi.FreeRigidBody(np.array([2.0, 1.0, 2.0 / 3.0]), nonphysical_inertia=True)
     assert np.allclose(body.inertia, np.diag([2.0, 1.0, 2.0 / 3.0]))
+
+
+# --- the CLI's limits (issue 34, N8) --------------------------------------------------------------
+
+@pytest.mark.parametrize("call, match", [
+    # a tolerance the CLI refuses (--rtol 2.0) used to run from Python
+    (lambda: lgvi.simulate(lgvi.load_scene("free-body"), method="cvode-bdf", model="quaternion", rtol=2.0),
+     r"rtol: must be a number in \[1e-14, 0.1\] \(got 2\)"),
+    (lambda: lgvi.simulate(lgvi.load_scene("free-body"), method="odeint-rkf78", model="quaternion", atol=1e-300),
+     r"atol: is below round-off"),
+    (lambda: lgvi.simulate(lgvi.load_scene("free-body"), method="rkmk45", rtol=0.5), r"rtol: .*\[1e-14, 0.1\]"),
+    # a run whose rows would not fit in memory (the CLI streams its CSV instead)
+    (lambda: lgvi.simulate(lgvi.load_scene("pendulum", h=1e-4, t_final=1e5, output_every=1)),
+     r"output_every: the scene's steps / output_every \(1000000000 / 1\) give 1000000002 rows"),
+    # the [ocp] scenes' step cap, from either side (10^7 steps took 3.8 GB)
+    (lambda: lgvi.load_scene("ocp-pendulum", h=1e-7), r"integration\.h \(--h\): gives 10000000 steps"),
+    (lambda: lgvi.solve_ocp("pendulum", steps=10**8), r"steps: must be an integer in \[1, 1000000\]"),
+    # the ocp options' ranges, named as Python's arguments
+    (lambda: lgvi.solve_ocp("pendulum", max_iterations=0), r"max_iterations: must be an integer in \[1, 1000000\]"),
+    (lambda: lgvi.solve_ocp("pendulum", lm_damping=-1.0), r"lm_damping: must be a number in \(0, 1e10\]"),
+    (lambda: lgvi.solve_ocp("dumbbell", sphere_radius=0.0), r"sphere_radius: must be a number in \(0, 1e100\]"),
+    (lambda: lgvi.solve_ocp("cart-pendulum", tolerance=2.0), r"tolerance: must be a number in \(0, 0.1\]"),
+    (lambda: lgvi.solve_ocp("cart-pendulum", starts=0), r"starts: must be an integer in \[1, 10000\]"),
+    (lambda: lgvi.solve_ocp("cart-pendulum", knots=10**12), r"knots: must be an integer in \[3, 1000\]"),
+])
+def test_the_clis_limits_raise_value_error_naming_the_argument(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

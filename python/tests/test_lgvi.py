@@ -135,11 +135,11 @@ def test_bad_input_raises_value_error_naming_the_argument():
     body = lgvi.FreeRigidBody(J)
     with pytest.raises(ValueError, match=r"R0: expected shape \(3, 3\), got \(3,\)"):
         lgvi.simulate(body, np.ones(3), np.zeros(3), h=0.1, steps=1)
-    with pytest.raises(ValueError, match="Omega0: has a non-finite entry"):
+    with pytest.raises(ValueError, match=r"Omega0\[0\]: must be finite \(got nan\)"):
         lgvi.simulate(body, np.eye(3), np.array([np.nan, 0, 0]), h=0.1, steps=1)
     with pytest.raises(ValueError, match="R0: is not a rotation matrix"):
         lgvi.simulate(body, 2 * np.eye(3), np.zeros(3), h=0.1, steps=1)
-    with pytest.raises(ValueError, match="h: must be finite and > 0"):
+    with pytest.raises(ValueError, match=r"h: must be > 0 \(got -1\)"):
         lgvi.simulate(body, np.eye(3), np.zeros(3), h=-1.0, steps=1)
     with pytest.raises(ValueError, match="inertia"):
         lgvi.FreeRigidBody(np.array([1.0, 1.0, 5.0]))  # violates the triangle inequality
@@ -170,3 +170,63 @@ def test_cli_streams_to_stdout_fifo_and_refuses_a_directory(tmp_path):
     refused = subprocess.run([exe, "simulate", "free-body", "--out", str(tmp_path)], capture_output=True, text=True)
     assert refused.returncode == 3
     assert "is a directory" in refused.stderr
+
+
+# --- the CLI's limits (issue 34, N8) --------------------------------------------------------------
+# The module goes through the same checks as the CLI: numbers by the scene files' rule (finite, 0
+# or of magnitude in [1e-100, 1e100]), at most 10^12 steps, the adaptive methods' tolerance range
+# [1e-14, 0.1] (the solvers' own validation), and at most 10^7 rows returned. Each call below used
+# to return NaN/Inf, the initial state as "completed", or run until memory ran out.
+
+BODY = lgvi.FreeRigidBody(J)
+I3 = np.eye(3)
+W0 = np.array([0.3, 1.0, 0.2])
+
+
+@pytest.mark.parametrize("call, match", [
+    # h giving more steps than any horizon may have: the initial state came back as "completed".
+    (lambda: lgvi.simulate_baseline(BODY, I3, W0, t_final=1.0, method="odeint-rk4", h=1e-20),
+     r"h: gives too many steps .*limit 1e12"),
+    (lambda: lgvi.simulate_baseline(BODY, I3, W0, t_final=1.0, method="odeint-rk4", h=0.0), r"h: must be > 0"),
+    (lambda: lgvi.simulate_baseline(BODY, I3, W0, t_final=1.0, method="odeint-rk4", h=np.inf), r"h: must be finite"),
+    # tolerances: the CLI's range
+    (lambda: lgvi.simulate_baseline(BODY, I3, W0, t_final=1.0, rtol=2.0), r"rtol: must be a number in \[1e-14, 0.1\]"),
+    (lambda: lgvi.simulate_baseline(BODY, I3, W0, t_final=1.0, atol=1e-300), r"atol: is below round-off"),
+    (lambda: lgvi.simulate_baseline(BODY, I3, W0, t_final=1.0, rtol=np.nan), r"rtol: .*\[1e-14, 0.1\]"),
+    # horizon and output
+    (lambda: lgvi.simulate_baseline(BODY, I3, W0, t_final=1e300), r"t_final: must be 0 or of magnitude"),
+    (lambda: lgvi.simulate_baseline(BODY, I3, W0, t_final=-1.0), r"t_final: must be > 0"),
+    (lambda: lgvi.simulate_baseline(BODY, I3, W0, t_final=1.0, samples=10**12), r"samples: .*\[1, 9999999\]"),
+    (lambda: lgvi.simulate(BODY, I3, W0, h=0.01, steps=10**13), r"steps: must be an integer in \[0, 1e12\]"),
+    (lambda: lgvi.simulate(BODY, I3, W0, h=0.01, steps=10**9), r"every: steps / every give 1000000002 rows; a call returns at most 10000000"),
+    (lambda: lgvi.simulate(BODY, I3, W0, h=0.01, steps=10, every=0), r"every: must be an integer in \[1, 1e12\]"),
+    (lambda: lgvi.simulate(BODY, I3, W0, h=1e-300, steps=10), r"h: must be 0 or of magnitude"),
+    (lambda: lgvi.step(BODY, I3, W0, h=np.nan), r"h: must be finite"),
+    # numbers whose products overflow: NaN/Inf energies and states
+    (lambda: lgvi.simulate(BODY, I3, np.array([1e200, 0.0, 0.0]), h=0.01, steps=1), r"Omega0\[0\]: .*magnitude"),
+    (lambda: lgvi.FreeRigidBody(np.array([1e300, 1e300, 1e300])), r"inertia\[0\]: .*magnitude"),
+    (lambda: BODY.energy(I3, np.array([0.0, 1e160, 0.0])), r"Omega\[1\]: .*magnitude"),
+    (lambda: lgvi.Pendulum3D(1e300, J, np.array([0, 0, 0.1])), r"mass: .*magnitude"),
+    (lambda: lgvi.Pendulum3D(1.0, J, np.array([0, 0, 0.1]), gravity=np.inf), r"gravity: must be finite"),
+    (lambda: lgvi.so3.exp(np.array([1e200, 0.0, 0.0])), r"w\[0\]: .*magnitude"),
+    # the paper's pendulum transfer: the solver's ranges
+    (lambda: lgvi.solve_pendulum_transfer(h=1e-8), r"h: .*between 1 and 1000000"),
+    (lambda: lgvi.solve_pendulum_transfer(tolerance=2.0), r"tolerance: must be a number in \(0, 0.1\]"),
+    (lambda: lgvi.solve_pendulum_transfer(max_iterations=0), r"max_iterations: must be an integer in \[1, 1000000\]"),
+    (lambda: lgvi.solve_pendulum_transfer(initial_multiplier=np.array([1, 1, 1e300, 1, 1, 1.0])),
+     r"initial_multiplier\[2\]: .*magnitude"),
+])
+def test_the_clis_limits_raise_value_error_naming_the_argument(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_the_limits_themselves_are_accepted():
+    """The ends of the ranges run: the tolerances 1e-14 and 0.1, a long run with a coarse output."""
+    run = lgvi.simulate_baseline(BODY, I3, W0, t_final=1.0, samples=10, rtol=1e-14, atol=1e-14)
+    assert run["stats"]["status"] == "completed"
+    assert np.isfinite(run["energy"]).all()
+    run = lgvi.simulate_baseline(BODY, I3, W0, t_final=1.0, samples=10, rtol=0.1)
+    assert run["stats"]["status"] == "completed"
+    run = lgvi.simulate(BODY, I3, W0, h=0.01, steps=10**5, every=10**5)
+    assert run["t"].shape == (2,)

@@ -17,6 +17,18 @@ Trajectory run_pendulum(const std::string& method, CoordinateModel model, const 
   return run_attitude(method, model, pendulum(), {}, pendulum_R0(), pendulum_Omega0(), uniform_times(T, 20), s);
 }
 
+/// Settings the solvers refuse: InvalidInput naming `field`, its message holding `words`.
+void expect_invalid(const std::string& method, CoordinateModel model, const SolverSettings& s, const std::string& field,
+                    const std::string& words) {
+  try {
+    run_pendulum(method, model, s);
+    ADD_FAILURE() << method << ": no InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
 TEST(CvodeFailure, StepBudgetIsAStatusWithTheTimeReached) {
   // CVODE steps one step per call (CV_ONE_STEP), so the run's budget is counted here, as for the
   // other libraries, not by CVODE's per-call mxstep (CV_TOO_MUCH_WORK).
@@ -37,11 +49,32 @@ TEST(CvodeFailure, StepBudgetIsAStatusWithTheTimeReached) {
   }
 }
 
-TEST(CvodeFailure, TooMuchAccuracyIsAStatus) {
-  const Trajectory tr = run_pendulum("cvode-bdf", CoordinateModel::Matrix, adaptive(1e-300));
-  std::cout << "[ status   ] " << tr.stats.brief() << "\n";
-  EXPECT_EQ(tr.stats.status, IntegrationStatus::SolverFailed);
-  EXPECT_NE(tr.stats.failure_detail.find("CV_TOO_MUCH_ACC"), std::string::npos) << tr.stats.failure_detail;
+TEST(Tolerances, BelowRoundOffIsRefusedBeforeAnyStep) {
+  // Issue 34, N12: a tolerance below round-off used to reach the solvers, which spent their step
+  // budget (odeint-rkf78 with atol = 1e-300: 5e7 steps at t = 0, 28.6 s; the pendulum longer)
+  // or stopped on CVODE's CV_TOO_MUCH_ACC. The one range of every adaptive method
+  // (baselines/tolerance.hpp) refuses it up front, naming the option and why.
+  for (const baselines::SolverInfo& info : baselines::solver_list()) {
+    if (info.step_control == baselines::StepControl::Fixed) continue;
+    const CoordinateModel model = CoordinateModel::Quaternion;
+    expect_invalid(info.name, model, adaptive(1e-300), "rtol", "is below round-off");
+    SolverSettings only_atol = adaptive(1e-6);
+    only_atol.atol = 1e-300;
+    expect_invalid(info.name, model, only_atol, "atol", "is below round-off");
+    SolverSettings loose = adaptive(2.0);
+    expect_invalid(info.name, model, loose, "rtol", "must be a number in [1e-14, 0.1] (got 2)");
+  }
+}
+
+TEST(Tolerances, TheFloorItselfEndsPromptlyOnEveryAdaptiveMethod) {
+  // At rtol = atol = kMinTolerance every adaptive method completes the pendulum's 2 s: the floor
+  // is reachable, not merely accepted.
+  for (const baselines::SolverInfo& info : baselines::solver_list()) {
+    if (info.step_control == baselines::StepControl::Fixed) continue;
+    const Trajectory tr = run_pendulum(info.name, CoordinateModel::Quaternion, adaptive(baselines::kMinTolerance));
+    EXPECT_TRUE(tr.stats.ok()) << info.name << ": " << tr.stats.brief();
+    EXPECT_LT(tr.stats.wall_seconds, 2.0) << info.name;
+  }
 }
 
 TEST(StepBudget, EveryLibraryReportsIt) {
@@ -55,18 +88,6 @@ TEST(StepBudget, EveryLibraryReportsIt) {
         << tr.stats.failure_detail;
     EXPECT_EQ(tr.stats.steps, 7u) << method;
     EXPECT_GT(tr.stats.failed_time, 0.0) << method;
-  }
-}
-
-TEST(StepFailure, AStepSizeUnderflowIsAStatus) {
-  // A tolerance below round-off cannot be met: the step size collapses (16 eps of the horizon is
-  // the floor; GSL alone would go on while t changes by an ulp, ~1e-300 near t = 0).
-  for (const std::string method : {"gsl-rk8pd", "gsl-msbdf", "odeint-rkf78", "odeint-dopri5", "odeint-bs"}) {
-    const Trajectory tr = run_pendulum(method, CoordinateModel::Quaternion, adaptive(1e-300));
-    std::cout << "[ status   ] " << tr.stats.brief() << "\n";
-    EXPECT_EQ(tr.stats.status, IntegrationStatus::SolverFailed) << method;
-    EXPECT_NE(tr.stats.failure_detail.find(method + ": "), std::string::npos) << tr.stats.failure_detail;
-    EXPECT_LT(tr.stats.steps, 100000u) << method;
   }
 }
 
@@ -89,19 +110,6 @@ TEST(Observer, CanStopTheRun) {
   }
 }
 
-// --- bad settings -----------------------------------------------------------------------------
-
-void expect_invalid(const std::string& method, CoordinateModel model, const SolverSettings& s, const std::string& field,
-                    const std::string& words) {
-  try {
-    run_pendulum(method, model, s);
-    ADD_FAILURE() << method << ": no InvalidInput";
-  } catch (const InvalidInput& e) {
-    EXPECT_EQ(e.field(), field) << e.what();
-    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
-  }
-}
-
 TEST(Settings, BadCombinationsAreRejectedNamingTheOption) {
   expect_invalid("odeint-rk4", CoordinateModel::Quaternion, SolverSettings{}, "h", "fixed-step method: it needs a step h");
   expect_invalid("gsl-rk4imp", CoordinateModel::Matrix, adaptive(1e-8), "h", "fixed-step");
@@ -109,7 +117,7 @@ TEST(Settings, BadCombinationsAreRejectedNamingTheOption) {
   both.rtol = 1e-8;
   expect_invalid("odeint-rk4", CoordinateModel::Quaternion, both, "rtol", "takes a step h, not tolerances");
   expect_invalid("cvode-bdf", CoordinateModel::Quaternion, fixed(0.01), "h", "adaptive method");
-  expect_invalid("gsl-rk8pd", CoordinateModel::Quaternion, adaptive(-1.0), "rtol", "> 0");
+  expect_invalid("gsl-rk8pd", CoordinateModel::Quaternion, adaptive(-1.0), "rtol", "[1e-14, 0.1] (got -1)");
   expect_invalid("odeint-rk4", CoordinateModel::Quaternion, fixed(0.0), "h", "> 0");
   expect_invalid("odeint-rk4", CoordinateModel::Quaternion, fixed(0.03), "h", "not on the grid");
   for (const std::string method : {"cvode-adams", "gsl-msbdf", "arkode-erk", "arkode-dirk"}) {

@@ -140,5 +140,31 @@ TEST(OcpCli, DirectBadInputIsOneErrorLineAndNoFiles) {
   }
 }
 
+// Issue 34, N9: a non-finite value in a solver's history or result is a named failure, never a
+// success with an inf in its files. The reproducer: the pendulum held at rest (target = initial
+// state) with W = 1e50 I from a tiny guess converges at once, but the condition number of the
+// sensitivity overflows; it used to end "converged", exit 0, with inf in the history.
+TEST(OcpCli, ANonFiniteValueInTheHistoryIsANamedFailure) {
+  TempDir dir;
+  std::string text = edited_scene("ocp-pendulum", "R = [[-1, 0, 0], [0, -1, 0], [0, 0, 1]]", "R = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]");
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"W = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
+                                                                     "W = [[1e50, 0, 0], [0, 1e50, 0], [0, 0, 1e50]]"},
+                                 std::pair<std::string, std::string>{"multiplier_guess = [1, 1, 1, 1, 1, 1]",
+                                                                     "multiplier_guess = [0, 0, 0, 1e-100, 0, 0]"}}) {
+    const std::size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  }
+  write_text(dir.capture() / "rest.toml", text);
+  const CliResult r = run_testbed(dir, {"ocp", (dir.capture() / "rest.toml").string(), "--out", "out"});
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("non-finite value"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("= inf at outer iteration 0"), std::string::npos) << r.err;
+  const std::string json = read_text(dir.work() / "out" / "ocp-rest-summary.json");
+  EXPECT_NE(json.find("\"status\": \"non-finite value\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"converged\": false"), std::string::npos) << json;
+}
+
 }  // namespace
 }  // namespace lgvi::test
