@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The sanitizer job of CI (docs/testing.md; run by the test command after the ordinary tests):
 #  1. an AddressSanitizer + UndefinedBehaviorSanitizer build (clang, -O1, no recovery: the first
-#     report fails the job) of the core, the harness, the CLI, test_lgvi and test_experiments, in
+#     report fails the job) of the core, the harness (toml++ compiled in with the same flags,
+#     LGVI_COMPILE_TOMLPLUSPLUS), the CLI, test_lgvi and test_experiments, in
 #     its own build directory (default build-asan), with Ninja; the three optimal control solver
 #     files at -O0 (LGVI_OCP_SOLVER_COMPILE_OPTIONS: half their compile time; the job runs them
 #     briefly);
@@ -27,7 +28,7 @@ cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang
   -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only -fno-omit-frame-pointer $sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS="$sanitize" \
   -DLGVI_BUILD_BENCHMARKS=OFF -DLGVI_BUILD_EXAMPLES=OFF -DLGVI_BUILD_PYTHON=OFF -DLGVI_INSTALL=OFF \
-  -DLGVI_BUILD_FUZZERS=ON -DLGVI_OCP_SOLVER_COMPILE_OPTIONS=-O0 >/dev/null
+  -DLGVI_BUILD_FUZZERS=ON -DLGVI_COMPILE_TOMLPLUSPLUS=ON -DLGVI_OCP_SOLVER_COMPILE_OPTIONS=-O0 >/dev/null
 cmake --build "$dir" -j"$jobs" --target test_lgvi test_experiments lgvi-testbed fuzz_scene
 stamp "built"
 
