@@ -9,7 +9,8 @@
 
 namespace lgvi::test {
 
-/// Calls of the global operator new (every form) since the program started.
+/// Calls of the global operator new (every form: plain, array, nothrow, aligned) since the
+/// program started.
 std::size_t allocation_count();
 
 }  // namespace lgvi::test

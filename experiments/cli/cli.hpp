@@ -2,6 +2,7 @@
 #pragma once
 
 #include <iostream>
+#include <optional>
 #include <string>
 
 namespace lgvi::experiments {
@@ -20,6 +21,14 @@ enum ExitCode : int {
 /// line "error: ..." on `err` and a non-zero exit code. Results go to files; progress and
 /// one-line summaries to `out`.
 int run_cli(int argc, const char* const* argv, std::ostream& out = std::cout, std::ostream& err = std::cerr);
+
+/// run_cli's parse step alone: parses the arguments into the subcommand's options and checks
+/// them as run_cli does before it reads or writes any file, and runs nothing. Returns the exit
+/// status run_cli returns when the command line ends there (0 after --help or --version, their
+/// text on `out`; 1 with one "error: ..." line on `err`), or nullopt when run_cli would go on to
+/// run the subcommand. Never throws.
+std::optional<int> parse_cli(int argc, const char* const* argv, std::ostream& out = std::cout,
+                             std::ostream& err = std::cerr);
 
 /// The command line as one shell-quoted string (recorded in output metadata).
 std::string quote_command_line(int argc, const char* const* argv);

@@ -401,11 +401,23 @@ class TomlReader {
     } catch (const UnreadableFile& e) {
       fail(field, "cannot read the control samples '" + path.string() + "': " + e.reason());
     }
-    std::istringstream in(std::move(text));
+    return parse_samples(text, path.string(), field, dim);
+  }
+
+  /// Same from the CSV's text in memory; `where` names it in messages ("WHERE:LINE").
+  std::shared_ptr<const baselines::SampledControl<3>> parse_samples(std::string_view text, const std::string& where,
+                                                                    const std::string& field, int dim) const {
+    std::istringstream in{std::string(text)};
+    return parse_samples(in, where, field, dim);
+  }
+
+  /// Same from a stream.
+  std::shared_ptr<const baselines::SampledControl<3>> parse_samples(std::istream& in, const std::string& where,
+                                                                    const std::string& field, int dim) const {
     std::vector<double> times;
     std::vector<Vec3> values;
     std::string line;
-    const auto at = [&](std::size_t n) { return path.string() + ":" + std::to_string(n) + ": "; };
+    const auto at = [&](std::size_t n) { return where + ":" + std::to_string(n) + ": "; };
     const auto parse = [](const std::string& cell, double& x) {
       const char* begin = cell.c_str();
       while (*begin == ' ' || *begin == '\t') ++begin;
@@ -456,9 +468,9 @@ class TomlReader {
       times.push_back(t_row);
       values.push_back(u);
     }
-    if (in.bad()) fail(field, "cannot read the control samples '" + path.string() + "': " + std::strerror(errno));
+    if (in.bad()) fail(field, "cannot read the control samples '" + where + "': " + std::strerror(errno));
     if (times.size() < 2) {
-      fail(field, path.string() + ": has " + std::to_string(times.size()) + " sample rows (at least 2 needed)");
+      fail(field, where + ": has " + std::to_string(times.size()) + " sample rows (at least 2 needed)");
     }
     return std::make_shared<const baselines::SampledControl<3>>(std::move(times), std::move(values),
                                                                baselines::Interpolation::PiecewiseLinear);

@@ -2,7 +2,10 @@
 // count calls (allocation_counter.hpp), and whole integrations must not add to the count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <new>
+#include <vector>
 
 #include "allocation_counter.hpp"
 #include "lgvi/composition.hpp"
@@ -69,6 +72,31 @@ TEST(LgviAllocation, CounterSeesAllocations) {
   void* p = ::operator new(sizeof(double));  // a direct call: not elidable like a new-expression
   ::operator delete(p);
   EXPECT_GT(allocation_count(), before);
+}
+
+// Every form is counted and freed by its own counterpart: the array and nothrow forms (std::stable_sort
+// takes its temporary buffer with the nothrow new and gives it back with the sized delete; with only
+// the plain forms replaced, AddressSanitizer's nothrow new met this program's delete:
+// alloc-dealloc-mismatch, in test_baselines' splitting tests).
+TEST(LgviAllocation, CounterSeesEveryFormAndPairsThem) {
+  std::size_t before = allocation_count();
+  void* p = ::operator new[](3 * sizeof(double));
+  ::operator delete[](p);
+  EXPECT_EQ(allocation_count(), before + 1);
+  before = allocation_count();
+  p = ::operator new(sizeof(double), std::nothrow);
+  ::operator delete(p);
+  EXPECT_EQ(allocation_count(), before + 1);
+  before = allocation_count();
+  p = ::operator new(64, std::align_val_t{64});
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(p) % 64, 0u);
+  ::operator delete(p, std::align_val_t{64});
+  EXPECT_EQ(allocation_count(), before + 1);
+  std::vector<int> v = {3, 1, 2, 5, 4, 9, 8, 7, 6, 0};
+  before = allocation_count();
+  std::stable_sort(v.begin(), v.end());
+  EXPECT_GT(allocation_count(), before);  // its buffer
+  EXPECT_TRUE(std::is_sorted(v.begin(), v.end()));
 }
 
 }  // namespace

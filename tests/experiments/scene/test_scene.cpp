@@ -683,4 +683,33 @@ TEST(SceneErrors, AreOneLineWhenTheParserQuotesANewline) {
   EXPECT_NE(what.find("\\n"), std::string::npos) << what;
 }
 
+// toml++ 3.3 asks of some characters whether they are Unicode whitespace, and its answer is
+// undefined behaviour (__builtin_unreachable) for U+00A1-U+0499 and two other ranges (found by
+// the [ocp] fuzzer: UndefinedBehaviorSanitizer in is_non_ascii_horizontal_whitespace): the text
+// scan refuses those characters where toml++ would ask, naming line and column, before toml++
+// sees them; elsewhere in strings and comments they load.
+TEST(SceneErrors, NonAsciiCharactersTomlWouldMisreadAreRefusedFirst) {
+  const std::string head = "system = \"free-body\"\n";
+  struct Case {
+    std::string text;
+    std::string field;
+  };
+  for (const Case& c : {Case{"\xce\xaa", "line 1, column 1"}, Case{head + "a = 1\xce\xaa\n", "line 2, column 6"},
+                        Case{head + "\xc2\xa1 = 1\n", "line 2, column 1"},
+                        Case{head + "[a\xce\xaa]\n", "line 2, column 3"},
+                        Case{head + "d = \"\"\"x\\\xce\xaa\"\"\"\n", "line 2, column 10"},
+                        Case{head + "d = \"\"\"x\\\n  \xce\xaay\"\"\"\n", "line 3, column 3"}}) {
+    const SceneError e = scene_error(c.text);
+    EXPECT_EQ(e.field(), c.field) << c.text << ": " << e.what();
+    EXPECT_NE(e.reason().find("non-ASCII"), std::string::npos) << e.what();
+  }
+  // In strings and comments (and after a byte order mark) they are text like any other.
+  const Scene scene = parse_scene("\xef\xbb\xbf" + head + "# \xce\xaa comment\ndescription = \"\xce\xaa \xc2\xa1\"\n"
+                                  "[initial]\nR = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\n"
+                                  "Omega = [0.0, 0.0, 1.0]\n[parameters]\ninertia = [1.0, 2.0, 3.0]\n"
+                                  "[integration]\nh = 0.1\nt_final = 1.0\n",
+                                  "test.toml");
+  EXPECT_EQ(scene.description, "\xce\xaa \xc2\xa1");
+}
+
 }  // namespace lgvi::experiments
