@@ -152,7 +152,7 @@ TEST(CliBaselines, ToleranceBelowRoundOffIsBadInput) {
   // Issue 34, N12: it used to reach the solver (CV_TOO_MUCH_ACC, exit 2; odeint-rkf78 with
   // --atol 1e-300 stepped for minutes). Now the one tolerance range refuses it: exit 1, one
   // line naming the option, the floor and why, nothing written.
-  for (const std::vector<std::string> tolerance : {std::vector<std::string>{"--rtol", "1e-300"},
+  for (const std::vector<std::string>& tolerance : {std::vector<std::string>{"--rtol", "1e-300"},
                                                    std::vector<std::string>{"--atol", "1e-300"}}) {
     for (const char* method : {"cvode-bdf", "odeint-rkf78", "rkmk45"}) {
       TempDir dir;

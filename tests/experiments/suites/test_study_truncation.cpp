@@ -75,8 +75,12 @@ TEST(StudyTruncation, NoCutOfAShippedStudyLoadsAsAnotherStudy) {
               ++counts->same;
               // The full form reads up to the last line: only a cut of the final newline keeps
               // it (and warns). The quick form reads the lines before the full form's own.
-              if (!quick) EXPECT_EQ(n, text.size() - 1) << file << " cut to " << n << " bytes loads";
-              if (n == text.size() - 1) EXPECT_EQ(s.warnings.size(), 1u) << file;
+              if (!quick) {
+                EXPECT_EQ(n, text.size() - 1) << file << " cut to " << n << " bytes loads";
+              }
+              if (n == text.size() - 1) {
+                EXPECT_EQ(s.warnings.size(), 1u) << file;
+              }
             } else {
               ++counts->other;
               ADD_FAILURE() << file << " cut to its first " << n << " bytes loads another study"
