@@ -10,10 +10,9 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
-#include <toml++/toml.h>
-
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -196,42 +195,75 @@ class ScratchDir {
 
 // --- scenes ---------------------------------------------------------------------------------------
 
-using TomlValue = std::variant<bool, std::int64_t, double, std::string, toml::table, toml::array>;
+/// A double as a TOML float that reads back as the same double: the shortest round-trip digits
+/// (std::to_chars), ".0" added to an integral value; inf and nan as TOML spells them (the scene
+/// parser then names the field: numbers must be finite).
+std::string toml_float(double x) {
+  char buf[64];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x);
+  std::string text(buf, end);
+  if (text.find_first_of(".eni") == std::string::npos) text += ".0";  // "inf", "nan" hold 'n'
+  return text;
+}
 
-/// A Python value as a TOML value: bool, integer, float (Python's or numpy's), str, a sequence
-/// (list, tuple, numpy array) as an array, a dict as a table. Anything else is a ValueError
-/// naming `path` (the dotted key).
-TomlValue to_toml(const py::handle& value, const std::string& path) {
-  const py::module_ numpy = py::module_::import("numpy");
-  if (py::isinstance<py::bool_>(value) || py::isinstance(value, numpy.attr("bool_"))) return value.cast<bool>();
-  if (py::isinstance<py::int_>(value) || py::isinstance(value, numpy.attr("integer"))) {
-    return value.cast<std::int64_t>();
+/// A TOML basic string: quotes, backslashes and control characters escaped.
+std::string toml_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (c < 0x20 || c == 0x7f) {
+          char esc[8];
+          std::snprintf(esc, sizeof esc, "\\u%04X", c);
+          out += esc;
+        } else {
+          out += ch;
+        }
+    }
   }
-  if (py::isinstance<py::float_>(value) || py::isinstance(value, numpy.attr("floating"))) return value.cast<double>();
-  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  return out + "\"";
+}
+
+/// A Python value as the text of a TOML value: bool, integer, float (Python's or numpy's), str, a
+/// sequence (list, tuple, numpy array) as an array, a dict as an inline table. Anything else is
+/// a ValueError naming `path` (the dotted key). Written here rather than by toml++'s formatter,
+/// whose inline-width estimate casts log10 of a float below 1 to size_t (undefined behaviour,
+/// found by UndefinedBehaviorSanitizer in the Python tests).
+std::string toml_text(const py::handle& value, const std::string& path) {
+  const py::module_ numpy = py::module_::import("numpy");
+  if (py::isinstance<py::bool_>(value) || py::isinstance(value, numpy.attr("bool_"))) {
+    return value.cast<bool>() ? "true" : "false";
+  }
+  if (py::isinstance<py::int_>(value) || py::isinstance(value, numpy.attr("integer"))) {
+    return std::to_string(value.cast<std::int64_t>());
+  }
+  if (py::isinstance<py::float_>(value) || py::isinstance(value, numpy.attr("floating"))) {
+    return toml_float(value.cast<double>());
+  }
+  if (py::isinstance<py::str>(value)) return toml_string(value.cast<std::string>());
   if (py::isinstance<py::dict>(value)) {
-    toml::table table;
+    std::string text = "{";
     for (const auto& [k, v] : value.cast<py::dict>()) {
       const std::string key = py::str(k).cast<std::string>();
-      std::visit([&](auto&& x) { table.insert_or_assign(key, std::move(x)); }, to_toml(v, path + "." + key));
+      text += (text.size() > 1 ? ", " : " ") + toml_string(key) + " = " + toml_text(v, path + "." + key);
     }
-    return table;
+    return text + (text.size() > 1 ? " }" : "}");
   }
   if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value) || py::isinstance<py::array>(value)) {
     const py::object items =
         py::isinstance<py::array>(value) ? value.attr("tolist")() : py::reinterpret_borrow<py::object>(value);
-    toml::array array;
-    for (const py::handle item : items) {
-      std::visit([&](auto&& x) { array.push_back(std::move(x)); }, to_toml(item, path));
-    }
-    return array;
+    std::string text = "[";
+    for (const py::handle item : items) text += (text.size() > 1 ? ", " : "") + toml_text(item, path);
+    return text + "]";
   }
   throw py::value_error(path + ": not a number, string, sequence or dict (got " +
                         py::str(value.get_type().attr("__name__")).cast<std::string>() + ")");
-}
-
-void insert_toml(toml::table& table, const std::string& key, const py::handle& value) {
-  std::visit([&](auto&& x) { table.insert_or_assign(key, std::move(x)); }, to_toml(value, key));
 }
 
 ex::SceneOverrides overrides_of(std::optional<double> h, std::optional<double> t_final,
@@ -252,20 +284,15 @@ ex::Scene make_scene(const std::string& system, const py::dict& parameters, cons
                      double t_final, const std::string& form, std::int64_t output_every,
                      const std::optional<py::dict>& control, const std::string& name,
                      const std::optional<std::string>& description) {
-  toml::table table;
-  table.insert_or_assign("system", system);
-  if (description) table.insert_or_assign("description", *description);
-  insert_toml(table, "parameters", parameters);
-  if (!initial.empty()) insert_toml(table, "initial", initial);
-  toml::table integration;
-  integration.insert_or_assign("h", h);
-  integration.insert_or_assign("t_final", t_final);
-  integration.insert_or_assign("form", form);
-  integration.insert_or_assign("output_every", output_every);
-  table.insert_or_assign("integration", std::move(integration));
-  if (control) insert_toml(table, "control", *control);
+  // The top-level keys first, then the [integration] table.
   std::ostringstream text;
-  text << table;
+  text << "system = " << toml_string(system) << "\n";
+  if (description) text << "description = " << toml_string(*description) << "\n";
+  text << "parameters = " << toml_text(parameters, "parameters") << "\n";
+  if (!initial.empty()) text << "initial = " << toml_text(initial, "initial") << "\n";
+  if (control) text << "control = " << toml_text(*control, "control") << "\n";
+  text << "[integration]\nh = " << toml_float(h) << "\nt_final = " << toml_float(t_final)
+       << "\nform = " << toml_string(form) << "\noutput_every = " << output_every << "\n";
   return ex::parse_scene(text.str(), fs::path(name + ".toml"));
 }
 

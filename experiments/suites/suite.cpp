@@ -512,6 +512,8 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   double cost_done = 0.0;
   std::vector<CaseOutcome> outcomes(total);
   std::atomic<std::size_t> next{0};
+  std::atomic<bool> abandoned{false};  // the workers take no further case
+  std::vector<char> output_failed(total, 0);  // case k's results could not be written
   std::mutex mutex;
   std::condition_variable done_cv;
   std::deque<std::size_t> finished;             // positions in `todo`, in completion order
@@ -549,7 +551,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   const InterruptScope interrupt_scope;
   std::optional<CooperativeInterrupts> cooperative(std::in_place);
   const auto worker = [&]() {
-    for (std::size_t k = next++; k < total && interrupt_signal() == 0; k = next++) {
+    for (std::size_t k = next++; k < total && interrupt_signal() == 0 && !abandoned; k = next++) {
       const SuiteCase& c = suite.cases[todo[k]];
       CaseOutcome& o = outcomes[k];
       o.index = todo[k];
@@ -561,6 +563,12 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
       }
       try {
         o.result = c.job->run(context(c));
+      } catch (const OutputError& e) {
+        // Its results could not be written (a full disk): no other case's can be; the suite
+        // stops (below) with exit status 3, not a case "not as expected".
+        o.result = JobResult{false, "error", e.what(), {}};
+        output_failed[k] = 1;
+        abandoned = true;
       } catch (const std::exception& e) {
         o.result = JobResult{false, "error", e.what(), {}};
       } catch (...) {
@@ -579,6 +587,19 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   const unsigned threads = static_cast<unsigned>(std::max<std::size_t>(1, std::min<std::size_t>(options.jobs, total)));
   const auto start = Clock::now();
   std::vector<std::thread> pool;
+  // An error of this thread (the journal cannot be written: a full disk) leaves the loop below
+  // by an exception; the workers finish the cases they run and are joined before it propagates
+  // (a joinable std::thread destroyed would end the process in std::terminate).
+  struct JoinWorkers {
+    std::vector<std::thread>& pool;
+    std::atomic<bool>& abandoned;
+    ~JoinWorkers() {
+      abandoned = true;
+      for (std::thread& t : pool) {
+        if (t.joinable()) t.join();
+      }
+    }
+  } join_workers{pool, abandoned};
   for (unsigned t = 0; t < threads && total > 0; ++t) pool.emplace_back(worker);
 
   // Progress, the journal and the summaries from this thread only.
@@ -631,6 +652,12 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
     lock.unlock();
     ++done;
     const SuiteCase& c = suite.cases[todo[k]];
+    if (output_failed[k]) {
+      // Not journaled: --resume runs it again once there is room. The cases journaled so far
+      // keep their files.
+      throw OutputError(outcomes[k].result.detail + " (suite " + suite.name + " stopped: " + std::to_string(finished_entries.size()) +
+                        " cases journaled; free space, then run it again with --resume)");
+    }
     // A timed case is recorded once timed (below); an interrupted run runs it again.
     if (!c.job->timed() || outcomes[k].result.status == "error") record(k);
     cost_done += cost[k];

@@ -4,6 +4,8 @@
 // methods.
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -576,6 +578,63 @@ TEST(SuiteResume, ResumeRerunsACaseWhoseFileChangedAndRefusesAnotherRun) {
   const CliResult other = run_testbed(dir, {"suite", "energy-drift", "--quick", "--out", "res", "--resume"});
   EXPECT_EQ(other.exit_code, 1) << other.err;
   EXPECT_NE(other.err.find("suite 'default', not 'energy-drift'"), std::string::npos) << other.err;
+}
+
+// A disk that fills during a suite (issue 34): the files lgvi-testbed writes are capped at
+// 64 KiB by RLIMIT_FSIZE (a write past it fails with EFBIG, as one past a full disk fails with
+// ENOSPC; SIGXFSZ ignored). Four short cases write ~6 KiB each and are journaled; the fifth
+// scene's cases write 370 KiB and cannot. The suite stops with exit 3, results could not be
+// written (not 2, "cases did not end as expected", and not std::terminate with its workers
+// running), naming the file and the way on; --resume with room finishes the run as one
+// uninterrupted run would have.
+TEST(SuiteOutput, AFullDiskStopsTheSuiteWithExitThreeAndResumeFinishesIt) {
+  TempDir dir;
+  pendulum_copies(dir, 2, "t_final = 20.0", "t_final = 0.1");
+  write_text(dir.scenes() / "s02.toml", edited_scene("pendulum", "t_final = 20.0", "t_final = 20.0"));
+  const std::vector<std::string> args = {"--scenes-dir", dir.scenes().string(), "suite", "default", "--no-plots",
+                                         "--jobs", "1", "--out", "res"};
+  const CliResult whole = run_testbed(dir, {"--scenes-dir", dir.scenes().string(), "suite", "default",
+                                            "--no-plots", "--jobs", "1", "--out", "whole"});
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+
+  std::vector<std::string> a = {testbed_exe()};
+  a.insert(a.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& x : a) argv.push_back(x.data());
+  argv.push_back(nullptr);
+  const std::string work = dir.work().string();
+  const std::string err_file = (dir.work() / "stderr.txt").string();
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const rlimit cap{64 * 1024, 64 * 1024};
+    const int null = ::open("/dev/null", O_WRONLY);
+    const int err = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (null < 0 || err < 0 || chdir(work.c_str()) != 0) _exit(127);
+    dup2(null, 1);
+    dup2(err, 2);
+    signal(SIGXFSZ, SIG_IGN);
+    if (setrlimit(RLIMIT_FSIZE, &cap) != 0) _exit(127);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  const std::string err = read_text(dir.work() / "stderr.txt");
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0) << ": " << err;
+  EXPECT_EQ(WEXITSTATUS(status), 3) << err;
+  const std::vector<std::string> lines = lines_of(err);
+  ASSERT_EQ(lines.size(), 1u) << err;
+  EXPECT_NE(lines[0].find("s02-"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("suite default stopped: 4 cases journaled"), std::string::npos) << lines[0];
+  EXPECT_EQ(journaled(dir.work() / "res"), 4u);
+  EXPECT_TRUE(temporaries(dir.work() / "res").empty()) << temporaries(dir.work() / "res").front();
+
+  std::vector<std::string> resume = args;
+  resume.push_back("--resume");
+  const CliResult rest = run_testbed(dir, resume);
+  ASSERT_EQ(rest.exit_code, 0) << rest.err;
+  EXPECT_EQ(untimed(read_text(dir.work() / "res" / "summary.csv")), untimed(read_text(dir.work() / "whole" / "summary.csv")));
 }
 
 // The scenes directory's scenes with their control samples: an edited CSV is another run.
