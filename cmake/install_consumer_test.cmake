@@ -1,7 +1,8 @@
 # ctest examples_against_installed_package: installs the build tree into a fresh prefix, checks
 # that the installed CLI finds its scenes there, then configures, builds and runs examples/ as
 # a project of its own with find_package(lgvi) from that prefix.
-# cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... [-DLAUNCHER=ccache] -P install_consumer_test.cmake
+# cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DCOMPILER=c++ [-DLAUNCHER=ccache]
+#   [-DSANITIZER_FLAGS=-fsanitize=...] -P install_consumer_test.cmake
 foreach(var BUILD_DIR SOURCE_DIR WORK_DIR)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "install_consumer_test: ${var} not set")
@@ -45,8 +46,15 @@ set(launcher)
 if(LAUNCHER)
   set(launcher -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER})
 endif()
+# The consumer compiles with the build's compiler; against a sanitized build (LGVI_SANITIZE) it
+# links the sanitizers' runtime the installed static libraries call.
+set(consumer_flags)
+if(SANITIZER_FLAGS)
+  string(REPLACE ";" " " flags "${SANITIZER_FLAGS}")
+  set(consumer_flags "-DCMAKE_CXX_FLAGS=${flags}" "-DCMAKE_EXE_LINKER_FLAGS=${flags}")
+endif()
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples -B ${WORK_DIR}/build -DCMAKE_BUILD_TYPE=Release
-    -DCMAKE_PREFIX_PATH=${prefix} ${launcher})
+    -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_CXX_COMPILER=${COMPILER} ${consumer_flags} ${launcher})
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build -j2)
 foreach(example free_body user_potential indirect_ocp)
   run(${WORK_DIR}/build/example_${example})
