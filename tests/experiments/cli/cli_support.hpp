@@ -2,6 +2,7 @@
 // lgvi-testbed binary that captures exit code, stdout and stderr.
 #pragma once
 
+#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -109,6 +111,32 @@ inline CliResult run_testbed(const TempDir& dir, const std::vector<std::string>&
 
 inline fs::path default_scene_file(const std::string& name) {
   return fs::path(source_dir()) / "experiments" / "scenes" / (name + ".toml");
+}
+
+/// lgvi-testbed started with `args` in dir.work(), stdout discarded, stderr written to
+/// `stderr_file` (discarded when empty); `in_child` runs in the child before the exec (a process
+/// group, signal dispositions, resource limits). Returns its pid; the caller waits for it.
+inline pid_t spawn_testbed(const TempDir& dir, const std::vector<std::string>& args,
+                           const fs::path& stderr_file = {}, const std::function<void()>& in_child = {}) {
+  std::vector<std::string> a = {testbed_exe()};
+  a.insert(a.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& s : a) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  const std::string work = dir.work().string();
+  const std::string err = stderr_file.empty() ? std::string("/dev/null") : stderr_file.string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (in_child) in_child();
+    const int null = ::open("/dev/null", O_WRONLY);
+    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (null < 0 || e < 0 || chdir(work.c_str()) != 0) _exit(127);
+    dup2(null, 1);
+    dup2(e, 2);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
 }
 
 /// A scene file's text with the first occurrence of `from` outside comment lines replaced by

@@ -23,27 +23,11 @@ using Clock = std::chrono::steady_clock;
 /// lgvi-testbed started in dir.work() in a process group of its own (a signal to the group is a
 /// terminal's Ctrl-C), stdout discarded, stderr in dir.capture()/stderr.
 pid_t spawn(const TempDir& dir, const std::vector<std::string>& args) {
-  std::vector<std::string> a = {testbed_exe()};
-  a.insert(a.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& s : a) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  const std::string work = dir.work().string();
-  const std::string err = (dir.capture() / "stderr").string();
-  const pid_t pid = fork();
-  if (pid == 0) {
+  return spawn_testbed(dir, args, dir.capture() / "stderr", [] {
     setpgid(0, 0);
     signal(SIGINT, SIG_DFL);  // as a shell starts a foreground command, whatever this test inherited
     signal(SIGTERM, SIG_DFL);
-    const int null = ::open("/dev/null", O_WRONLY);
-    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (null < 0 || e < 0 || chdir(work.c_str()) != 0) _exit(127);
-    dup2(null, 1);
-    dup2(e, 2);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
+  });
 }
 
 /// Waits until `ready()` or the process exits, at most `limit` seconds; true if ready.

@@ -77,24 +77,8 @@ struct Bounded {
 /// Runs lgvi-testbed with `args` in dir.work() (stderr captured), killed after `limit` seconds:
 /// a read that blocks fails the test instead of hanging it.
 Bounded run_within(const TempDir& dir, const std::vector<std::string>& args, double limit = 20.0) {
-  std::vector<std::string> a = {testbed_exe()};
-  a.insert(a.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& s : a) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  const std::string work = dir.work().string();
-  const std::string err = (dir.capture() / "stderr").string();
   const auto start = Clock::now();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (null < 0 || e < 0 || chdir(work.c_str()) != 0) _exit(127);
-    dup2(null, 1);
-    dup2(e, 2);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
+  const pid_t pid = spawn_testbed(dir, args, dir.capture() / "stderr");
   Bounded r;
   int status = 0;
   while (waitpid(pid, &status, WNOHANG) == 0) {
@@ -108,7 +92,7 @@ Bounded run_within(const TempDir& dir, const std::vector<std::string>& args, dou
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = read_text(err);
+  r.err = read_text(dir.capture() / "stderr");
   return r;
 }
 

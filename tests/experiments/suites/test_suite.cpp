@@ -427,26 +427,6 @@ struct ManifestText {
   bool has(const std::string& part) const { return text.find(part) != std::string::npos; }
 };
 
-/// Starts lgvi-testbed with `args` in dir.work(), output discarded; returns its pid.
-pid_t spawn_testbed(const TempDir& dir, const std::vector<std::string>& args) {
-  std::vector<std::string> a = {testbed_exe()};
-  a.insert(a.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& s : a) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  const std::string work = dir.work().string();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    if (null < 0 || chdir(work.c_str()) != 0) _exit(127);
-    dup2(null, 1);
-    dup2(null, 2);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
 /// Journal lines with the completion marker.
 std::size_t journaled(const fs::path& out) {
   std::size_t n = 0;
@@ -597,27 +577,12 @@ TEST(SuiteOutput, AFullDiskStopsTheSuiteWithExitThreeAndResumeFinishesIt) {
                                             "--no-plots", "--jobs", "1", "--out", "whole"});
   ASSERT_EQ(whole.exit_code, 0) << whole.err;
 
-  std::vector<std::string> a = {testbed_exe()};
-  a.insert(a.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& x : a) argv.push_back(x.data());
-  argv.push_back(nullptr);
-  const std::string work = dir.work().string();
-  const std::string err_file = (dir.work() / "stderr.txt").string();
-  const pid_t pid = fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
+  const pid_t pid = spawn_testbed(dir, args, dir.work() / "stderr.txt", [] {
     const rlimit cap{64 * 1024, 64 * 1024};
-    const int null = ::open("/dev/null", O_WRONLY);
-    const int err = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (null < 0 || err < 0 || chdir(work.c_str()) != 0) _exit(127);
-    dup2(null, 1);
-    dup2(err, 2);
     signal(SIGXFSZ, SIG_IGN);
     if (setrlimit(RLIMIT_FSIZE, &cap) != 0) _exit(127);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
+  });
+  ASSERT_GT(pid, 0);
   int status = 0;
   ASSERT_EQ(waitpid(pid, &status, 0), pid);
   const std::string err = read_text(dir.work() / "stderr.txt");
