@@ -230,36 +230,67 @@ std::string toml_string(const std::string& s) {
   return out + "\"";
 }
 
+/// A Python str as UTF-8; a string Python cannot encode so (a lone surrogate, "\\ud800") is a
+/// ValueError naming `path`, not pybind11's failed cast (RuntimeError).
+std::string utf8_text(const py::handle& value, const std::string& path) {
+  Py_ssize_t size = 0;
+  const char* data = PyUnicode_AsUTF8AndSize(value.ptr(), &size);
+  if (data == nullptr) {
+    PyErr_Clear();
+    throw py::value_error(path + ": not valid Unicode text (a lone surrogate cannot be written as UTF-8)");
+  }
+  return std::string(data, static_cast<std::size_t>(size));
+}
+
 /// A Python value as the text of a TOML value: bool, integer, float (Python's or numpy's), str, a
-/// sequence (list, tuple, numpy array) as an array, a dict as an inline table. Anything else is
-/// a ValueError naming `path` (the dotted key). Written here rather than by toml++'s formatter,
-/// whose inline-width estimate casts log10 of a float below 1 to size_t (undefined behaviour,
-/// found by UndefinedBehaviorSanitizer in the Python tests).
-std::string toml_text(const py::handle& value, const std::string& path) {
+/// sequence (list, tuple, numpy array) as an array, a dict as an inline table. Anything else, an
+/// integer outside TOML's 64 bits, text that is not Unicode and nesting deeper than a scene file
+/// may hold (kMaxSceneNesting, which also ends a list that holds itself) are ValueErrors naming
+/// `path` (the dotted key). Written here rather than by toml++'s formatter, whose inline-width
+/// estimate casts log10 of a float below 1 to size_t (undefined behaviour, found by
+/// UndefinedBehaviorSanitizer in the Python tests).
+std::string toml_text(const py::handle& value, const std::string& path, int depth = 0) {
   const py::module_ numpy = py::module_::import("numpy");
   if (py::isinstance<py::bool_>(value) || py::isinstance(value, numpy.attr("bool_"))) {
     return value.cast<bool>() ? "true" : "false";
   }
   if (py::isinstance<py::int_>(value) || py::isinstance(value, numpy.attr("integer"))) {
-    return std::to_string(value.cast<std::int64_t>());
+    // numpy's integers through Python's (a uint64 past 2^63 included).
+    const py::int_ integer(py::reinterpret_borrow<py::object>(value));
+    int overflow = 0;
+    const long long n = PyLong_AsLongLongAndOverflow(integer.ptr(), &overflow);
+    if (overflow != 0) throw py::value_error(path + ": an integer outside TOML's 64-bit range (write it as a float)");
+    if (n == -1 && PyErr_Occurred()) throw py::error_already_set();
+    return std::to_string(n);
   }
   if (py::isinstance<py::float_>(value) || py::isinstance(value, numpy.attr("floating"))) {
     return toml_float(value.cast<double>());
   }
-  if (py::isinstance<py::str>(value)) return toml_string(value.cast<std::string>());
-  if (py::isinstance<py::dict>(value)) {
+  if (py::isinstance<py::str>(value)) return toml_string(utf8_text(value, path));
+  const bool is_dict = py::isinstance<py::dict>(value);
+  const bool is_sequence =
+      py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value) || py::isinstance<py::array>(value);
+  if ((is_dict || is_sequence) && depth >= ex::kMaxSceneNesting) {
+    throw py::value_error(path + ": nested more than " + std::to_string(ex::kMaxSceneNesting) +
+                          " levels deep (a scene file holds at most that many)");
+  }
+  if (is_dict) {
     std::string text = "{";
     for (const auto& [k, v] : value.cast<py::dict>()) {
-      const std::string key = py::str(k).cast<std::string>();
-      text += (text.size() > 1 ? ", " : " ") + toml_string(key) + " = " + toml_text(v, path + "." + key);
+      if (!py::isinstance<py::str>(k)) {
+        throw py::value_error(path + ": a key that is not a string (" +
+                              py::str(k.get_type().attr("__name__")).cast<std::string>() + ")");
+      }
+      const std::string key = utf8_text(k, path + ".<key>");
+      text += (text.size() > 1 ? ", " : " ") + toml_string(key) + " = " + toml_text(v, path + "." + key, depth + 1);
     }
     return text + (text.size() > 1 ? " }" : "}");
   }
-  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value) || py::isinstance<py::array>(value)) {
+  if (is_sequence) {
     const py::object items =
         py::isinstance<py::array>(value) ? value.attr("tolist")() : py::reinterpret_borrow<py::object>(value);
     std::string text = "[";
-    for (const py::handle item : items) text += (text.size() > 1 ? ", " : "") + toml_text(item, path);
+    for (const py::handle item : items) text += (text.size() > 1 ? ", " : "") + toml_text(item, path, depth + 1);
     return text + "]";
   }
   throw py::value_error(path + ": not a number, string, sequence or dict (got " +
@@ -314,7 +345,8 @@ py::dict simulate_scene(const ex::Scene& scene, const std::string& method_name, 
   if (csv && *csv == "-") throw py::value_error("csv: a file to keep the rows in ('-', standard output, is the CLI's)");
   std::optional<ScratchDir> scratch;
   if (!csv) scratch.emplace();
-  const fs::path file = csv ? *csv : scratch->path() / (scene.name + ".csv");
+  // Not named after the scene: a name need not make a file name (too long, a NUL, a slash).
+  const fs::path file = csv ? *csv : scratch->path() / "rows.csv";
   ex::RunSummary summary;
   {
     py::gil_scoped_release release;
@@ -464,6 +496,30 @@ py::dict validate(bool quick, const std::vector<std::string>& only, const std::o
 
 // --- optimal control ------------------------------------------------------------------------------
 
+/// A keyword argument as T: TypeError naming `key` for a value of another type, ValueError for an
+/// integer outside 64 bits (not pybind11's failed cast, a RuntimeError).
+template <class T>
+T option_value(const py::handle& value, const std::string& key) {
+  try {
+    return value.cast<T>();
+  } catch (const py::cast_error&) {
+    if constexpr (std::is_same_v<T, long long>) {
+      if (PyLong_Check(value.ptr())) throw py::value_error(key + ": an integer outside the 64-bit range");
+    }
+    if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, fs::path>) {
+      if (PyUnicode_Check(value.ptr())) (void)utf8_text(value, key);  // the surrogate's ValueError
+    }
+    const char* expected = std::is_same_v<T, std::string> ? "str"
+                           : std::is_same_v<T, double>    ? "float"
+                           : std::is_same_v<T, long long> ? "int"
+                           : std::is_same_v<T, bool>      ? "bool"
+                           : std::is_same_v<T, fs::path>  ? "a path (str or os.PathLike)"
+                                                          : "a sequence of floats";
+    throw py::type_error(key + ": expected " + expected + ", got " +
+                         py::str(value.get_type().attr("__name__")).cast<std::string>());
+  }
+}
+
 /// `lgvi-testbed ocp SYSTEM` with the given options; ValueError for bad input (exit status 1).
 py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
   ex::OcpCommand cmd;
@@ -480,30 +536,30 @@ py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
     const std::string key = py::str(key_handle);
     // Numbers as the CLI reads them (integers as 64-bit: a value out of its range is then the
     // range's ValueError, not a failed cast); run_ocp_command checks each against its range.
-    if (key == "form") cmd.form = value.cast<std::string>();
-    else if (key == "h") cmd.h = value.cast<double>();
-    else if (key == "steps") cmd.steps = value.cast<long long>();
-    else if (key == "decomposition") cmd.no_decomposition = !value.cast<bool>();
-    else if (key == "merit") cmd.merit = value.cast<std::string>();
-    else if (key == "globalization") cmd.globalization = value.cast<std::string>();
-    else if (key == "lm_damping") cmd.lm_damping = value.cast<double>();
-    else if (key == "nonmonotone_memory") cmd.nonmonotone_memory = value.cast<long long>();
-    else if (key == "guess") cmd.guess = value.cast<std::vector<double>>();
-    else if (key == "max_iterations") cmd.max_iterations = value.cast<long long>();
-    else if (key == "t_final") cmd.t_final = value.cast<double>();
-    else if (key == "sphere_radius") cmd.sphere_radius = value.cast<double>();
-    else if (key == "knots") cmd.knots = value.cast<long long>();
-    else if (key == "spline") cmd.spline = value.cast<std::string>();
-    else if (key == "gradients") cmd.gradients = value.cast<std::string>();
-    else if (key == "tolerance") cmd.tolerance = value.cast<double>();
-    else if (key == "starts") cmd.starts = value.cast<long long>();
-    else if (key == "seed") cmd.seed = value.cast<long long>();
-    else if (key == "first_start") cmd.first_start = value.cast<long long>();
-    else if (key == "solver") cmd.solver = value.cast<std::string>();
-    else if (key == "hessian") cmd.hessian = value.cast<std::string>();
-    else if (key == "state_guess") cmd.state_guess = value.cast<std::string>();
-    else if (key == "shooting_interval") cmd.shooting_interval = value.cast<long long>();
-    else if (key == "out") keep = value.cast<fs::path>();
+    if (key == "form") cmd.form = option_value<std::string>(value, key);
+    else if (key == "h") cmd.h = option_value<double>(value, key);
+    else if (key == "steps") cmd.steps = option_value<long long>(value, key);
+    else if (key == "decomposition") cmd.no_decomposition = !option_value<bool>(value, key);
+    else if (key == "merit") cmd.merit = option_value<std::string>(value, key);
+    else if (key == "globalization") cmd.globalization = option_value<std::string>(value, key);
+    else if (key == "lm_damping") cmd.lm_damping = option_value<double>(value, key);
+    else if (key == "nonmonotone_memory") cmd.nonmonotone_memory = option_value<long long>(value, key);
+    else if (key == "guess") cmd.guess = option_value<std::vector<double>>(value, key);
+    else if (key == "max_iterations") cmd.max_iterations = option_value<long long>(value, key);
+    else if (key == "t_final") cmd.t_final = option_value<double>(value, key);
+    else if (key == "sphere_radius") cmd.sphere_radius = option_value<double>(value, key);
+    else if (key == "knots") cmd.knots = option_value<long long>(value, key);
+    else if (key == "spline") cmd.spline = option_value<std::string>(value, key);
+    else if (key == "gradients") cmd.gradients = option_value<std::string>(value, key);
+    else if (key == "tolerance") cmd.tolerance = option_value<double>(value, key);
+    else if (key == "starts") cmd.starts = option_value<long long>(value, key);
+    else if (key == "seed") cmd.seed = option_value<long long>(value, key);
+    else if (key == "first_start") cmd.first_start = option_value<long long>(value, key);
+    else if (key == "solver") cmd.solver = option_value<std::string>(value, key);
+    else if (key == "hessian") cmd.hessian = option_value<std::string>(value, key);
+    else if (key == "state_guess") cmd.state_guess = option_value<std::string>(value, key);
+    else if (key == "shooting_interval") cmd.shooting_interval = option_value<long long>(value, key);
+    else if (key == "out") keep = option_value<fs::path>(value, key);
     else throw py::value_error(key + ": not an option of solve_ocp (see its docstring)");
   }
   std::optional<ScratchDir> scratch;

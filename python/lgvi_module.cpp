@@ -198,7 +198,12 @@ py::tuple step_lgvi(const System& system, const Array& R, const Array& Omega, do
   typename lgvi::AttitudeLgvi<System>::State s1;
   const Vec3 zero = Vec3::Zero();
   const lgvi::RotationUpdateSummary summary = integrator.step(s0, h, zero, zero, s1);
-  if (!summary.converged()) throw std::runtime_error("the rotation update failed: " + summary.brief());
+  // Outside the rotation update's domain (h |p| too large for the inertia, lgvi/rotation_update.hpp):
+  // a ValueError for the arguments, as the CLI's failed run is a status, not a crash.
+  if (!summary.converged()) {
+    throw py::value_error("h: the rotation update failed (" + summary.brief() +
+                          "): take a smaller h for this angular velocity");
+  }
   return py::make_tuple(to_array(s1.R), to_array(integrator.omega(s1)));
 }
 
@@ -207,7 +212,8 @@ py::tuple step_lgvi(const System& system, const Array& R, const Array& Omega, do
 template <class System>
 py::dict simulate_baseline(const System& system, const Array& R0_in, const Array& Omega0_in, double t_final,
                            long long samples, const std::string& method, const std::string& model,
-                           std::optional<double> rtol, std::optional<double> atol, std::optional<double> h) {
+                           std::optional<double> rtol, std::optional<double> atol, std::optional<double> h,
+                           long long max_steps) {
   namespace b = lgvi::baselines;
   // t_final and h by the scene files' rules; rtol, atol and the steps h gives over t_final by
   // the solvers' own validation (resolve_settings, integrate: the CLI's ranges).
@@ -220,6 +226,12 @@ py::dict simulate_baseline(const System& system, const Array& R0_in, const Array
   settings.rtol = rtol;
   settings.atol = atol;
   settings.h = h;
+  // The step budget over the run (the CLI's, baselines/solver.hpp): an adaptive method's steps
+  // grow with |Omega| t_final / rtol^(1/order), so a call that must return soon lowers it and
+  // reads the status the budget ends the run with.
+  const double default_budget = static_cast<double>(b::SolverSettings{}.max_steps);
+  lgvi::Range::integers(1, default_budget).require(static_cast<double>(max_steps), "max_steps");
+  settings.max_steps = static_cast<std::size_t>(max_steps);
   std::vector<double> times(static_cast<std::size_t>(samples) + 1);
   for (std::size_t i = 0; i < times.size(); ++i) {
     times[i] = t_final * static_cast<double>(i) / static_cast<double>(samples);
@@ -336,8 +348,17 @@ PYBIND11_MODULE(lgvi, m) {
           "The inverse of hat (of the skew part of W).");
   so3.def("exp", [](const Array& w) { return to_array(lgvi::so3::exp(vec3(w, "w"))); }, py::arg("w"),
           "The rotation exp(hat(w)) (Rodrigues' formula).");
-  so3.def("log", [](const Array& R) { return to_array(lgvi::so3::log(mat3(R, "R"))); }, py::arg("R"),
-          "The rotation vector w with exp(hat(w)) = R, |w| <= pi.");
+  so3.def("log",
+          [](const Array& R) {
+            // The library's precondition, checked as simulate checks R0 (lgvi/lgvi.hpp).
+            const Mat3 rotation = mat3(R, "R");
+            if (!lgvi::so3::is_rotation(rotation, 1e-10)) {
+              throw py::value_error("R: not a rotation matrix (R^T R != I or det R != 1, to 1e-10)");
+            }
+            return to_array(lgvi::so3::log(rotation));
+          },
+          py::arg("R"),
+          "The rotation vector w with exp(hat(w)) = R, |w| <= pi; ValueError if R is not a rotation (to 1e-10).");
   so3.def("cayley", [](const Array& f) { return to_array(lgvi::so3::cayley(vec3(f, "f"))); }, py::arg("f"),
           "The Cayley transform of the rotation-update parametrization (lgvi/so3.hpp).");
 
@@ -400,15 +421,17 @@ PYBIND11_MODULE(lgvi, m) {
   const char* baseline_doc =
       "A continuous-time baseline: method (baseline_methods()) on a coordinate model ('quaternion', "
       "'quaternion-renormalized', 'euler', 'matrix'), sampled at samples + 1 equally spaced times on "
-      "[0, t_final]. Adaptive methods take rtol/atol, fixed-step ones h. Returns {t, R, Omega, energy, stats}.";
+      "[0, t_final]. Adaptive methods take rtol/atol, fixed-step ones h. max_steps bounds the steps over the run "
+      "(at most 50,000,000, the default; a run that reaches it stops with that status in stats). Returns {t, R, "
+      "Omega, energy, stats}.";
   m.def("simulate_baseline", &simulate_baseline<lgvi::FreeRigidBody>, py::arg("system"), py::arg("R0"),
         py::arg("Omega0"), py::arg("t_final"), py::arg("samples") = 100, py::arg("method") = "odeint-dopri5",
         py::arg("model") = "quaternion", py::arg("rtol") = py::none(), py::arg("atol") = py::none(),
-        py::arg("h") = py::none(), baseline_doc);
+        py::arg("h") = py::none(), py::arg("max_steps") = static_cast<long long>(lgvi::baselines::SolverSettings{}.max_steps), baseline_doc);
   m.def("simulate_baseline", &simulate_baseline<lgvi::Pendulum3D>, py::arg("system"), py::arg("R0"),
         py::arg("Omega0"), py::arg("t_final"), py::arg("samples") = 100, py::arg("method") = "odeint-dopri5",
         py::arg("model") = "quaternion", py::arg("rtol") = py::none(), py::arg("atol") = py::none(),
-        py::arg("h") = py::none(), baseline_doc);
+        py::arg("h") = py::none(), py::arg("max_steps") = static_cast<long long>(lgvi::baselines::SolverSettings{}.max_steps), baseline_doc);
   m.def("baseline_methods", &lgvi::baselines::solver_names, "The baseline methods' names.");
 
   m.def("solve_pendulum_transfer", &solve_pendulum_transfer, py::arg("pendulum") = lgvi::Pendulum3D::paper(),

@@ -20,7 +20,12 @@ namespace {
 /// opened (outside strings and comments), accumulated over the enclosing levels. A float's dot
 /// counts too (harmless: one per value). Strings are skipped with TOML's rules (basic with
 /// escapes, literal, multi-line with up to two extra closing quotes); an unterminated one ends
-/// the scan (toml++ then reports it).
+/// the scan (toml++ then reports it). A quote opens a string only where toml++ begins one: at
+/// the start of a value (after '=', '[' of an array, ',' or a line break in an array) or of a
+/// key part (at a line's start, after '[' of a header, '{', ',' in an inline table, or '.' in a
+/// key). Anywhere else, inside a bare value such as `1'x`, toml++ reads the quote as one more
+/// character of the value and asks of each following one whether it is whitespace, so the scan
+/// reads on there as outside strings (found by the [ocp] fuzzer).
 /// It also refuses the non-ASCII characters toml++ 3.3 would ask "is this Unicode whitespace?"
 /// of: its table for that (is_non_ascii_horizontal_whitespace) reaches __builtin_unreachable,
 /// undefined behaviour, for U+00A1-U+0499 and two other ranges (found by the scene fuzzer). It
@@ -31,8 +36,11 @@ void check_structure(std::string_view text, const TomlReader& r) {
   int line = 1;
   std::size_t line_start = 0;
   std::vector<int> enclosing;  // per open bracket: the nesting outside it, bracket included
+  std::vector<char> kinds;     // per open bracket: 'a' array, 'h' table header, 't' inline table
   int base = 0;                // nesting of the enclosing levels
   int dots = 0;                // dots since the last separator at this level
+  bool in_key = true;          // reading a key (else a value)
+  char previous = '\n';        // the last character other than a space or tab ('\n' at the start)
   const auto fail_at = [&](std::size_t i, const std::string& reason) {
     r.fail("line " + std::to_string(line) + ", column " + std::to_string(i - line_start + 1), reason);
   };
@@ -47,19 +55,22 @@ void check_structure(std::string_view text, const TomlReader& r) {
   const std::size_t n = text.size();
   // A UTF-8 byte order mark, which toml++ skips.
   const std::size_t first = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
-  for (std::size_t i = first; i < n; ++i) {
+  for (std::size_t i = first; i < n; previous = (text[i] == ' ' || text[i] == '\t') ? previous : text[i], ++i) {
     const char c = text[i];
     if (non_ascii(i)) {
       fail_at_byte(i, "a non-ASCII character outside a string or comment (TOML allows them in strings, quoted keys "
                       "and comments only)");
     }
+    const bool string_may_start = previous == '\n' || previous == '=' || previous == '[' || previous == '{' ||
+                                  previous == ',' || (previous == '.' && in_key);
     if (c == '\n') {
       ++line;
       line_start = i + 1;
       dots = 0;
+      if (enclosing.empty()) in_key = true;
     } else if (c == '#') {
       while (i + 1 < n && text[i + 1] != '\n') ++i;
-    } else if (c == '"' || c == '\'') {
+    } else if ((c == '"' || c == '\'') && string_may_start) {
       const bool basic = c == '"';
       const bool multi = i + 2 < n && text[i + 1] == c && text[i + 2] == c;
       std::size_t j = i + (multi ? 3 : 1);
@@ -101,6 +112,9 @@ void check_structure(std::string_view text, const TomlReader& r) {
       if (!closed) return;
       i = j;
     } else if (c == '[' || c == '{') {
+      const char kind = c == '{' ? 't' : (in_key ? 'h' : 'a');
+      kinds.push_back(kind);
+      in_key = kind != 'a';
       enclosing.push_back(base);
       base += dots + 1;
       dots = 0;
@@ -111,10 +125,15 @@ void check_structure(std::string_view text, const TomlReader& r) {
       if (!enclosing.empty()) {
         base = enclosing.back();
         enclosing.pop_back();
+        kinds.pop_back();
       }
       dots = 0;
+      in_key = !kinds.empty() && kinds.back() == 'h';
     } else if (c == ',') {
       dots = 0;
+      in_key = !kinds.empty() && kinds.back() == 't';
+    } else if (c == '=') {
+      in_key = false;
     } else if (c == '.') {
       if (base + ++dots > kMaxSceneNesting) {
         fail_at(i, "a dotted key nested more than " + std::to_string(kMaxSceneNesting) +

@@ -35,6 +35,18 @@ set autoscale xfix
 # log(0) does not exist: exact zeros become NaN (left out) instead of an arbitrary floor.
 positive(x) = (x > 0 ? x : NaN)
 
+# A figure whose every curve is exactly 0 at every sample (a quantity conserved to the last
+# bit, a body at rest) has no point on the log scale, and gnuplot cannot autoscale an axis
+# without one ("all points y value undefined"): count the drawable points first and give such a
+# figure a fixed range and a label saying so.
+drawn = 0
+do for [i=5:ARGC:2] {
+    undefine STATS_records
+    stats ARGV[i] using "t":(positive(abs(column("energy_error")))) nooutput
+    if (exists("STATS_records")) { drawn = drawn + STATS_records }
+}
+if (drawn == 0) { set yrange [1e-16:1]; set label 1 "exactly 0 at every sample" at graph 0.5, 0.5 center }
+
 # The first curve is drawn wider so that a later curve lying on top of it (e.g. the free body,
 # where the symmetric and printed forms coincide) leaves it visible.
 plot for [i=5:ARGC:2] ARGV[i] using "t":(positive(abs(column("energy_error")))) \

@@ -40,5 +40,17 @@ positive(x) = (x > 0 ? x : NaN)
 dash(k) = 1 + (k - 1) / 8
 point(k) = 1 + (k - 1) % 13
 
+# A figure whose every curve is exactly 0 at every sample (a quantity conserved to the last
+# bit, a body at rest) has no point on the log scale, and gnuplot cannot autoscale an axis
+# without one ("all points y value undefined"): count the drawable points first and give such a
+# figure a fixed range and a label saying so.
+drawn = 0
+do for [i=1:n] {
+    undefine STATS_records
+    stats file[i] using (column("iteration")):(positive(abs(column(column_name)))) nooutput
+    if (exists("STATS_records")) { drawn = drawn + STATS_records }
+}
+if (drawn == 0) { set yrange [1e-16:1]; set label 1 "exactly 0 at every sample" at graph 0.5, 0.5 center }
+
 plot for [i=1:n] file[i] using (column("iteration")):(positive(abs(column(column_name)))) \
      with linespoints linewidth 1.5 pointtype point(i) pointsize 0.8 dashtype dash(i) title label[i]

@@ -365,9 +365,11 @@ bool DirectTranscription<Model>::advance(State& s, std::size_t k_begin, std::siz
     const VecU u0 = e.controls.col(static_cast<Eigen::Index>(k));
     const VecU u1 = e.controls.col(static_cast<Eigen::Index>(k + 1));
     const RotationUpdateSummary r = lgvi_.step(s, h_, u0, u1, next);
-    if (!r.converged()) {
+    const char* non_finite = r.converged() ? non_finite_part(next) : nullptr;
+    if (!r.converged() || non_finite != nullptr) {
       e.failed_step = k;
       e.failure = r;
+      e.non_finite = non_finite;
       return false;
     }
     if constexpr (std::is_same_v<E, Evaluation>) {
@@ -410,6 +412,7 @@ bool DirectTranscription<Model>::evaluate(const Eigen::VectorXd& c, bool gradien
   }
   State s = initial_;
   e.ok = false;
+  e.non_finite = nullptr;
   if (!advance(s, 0, steps_, gradients, e)) return false;
   e.ok = true;
   e.residual = Model::residual(lgvi_, problem_, s);
@@ -466,10 +469,7 @@ std::vector<typename Model::State> DirectTranscription<Model>::trajectory(const 
 
 template <class Model>
 std::string DirectTranscription<Model>::failure_message(const Evaluation& e) const {
-  char buf[512];
-  std::snprintf(buf, sizeof buf, "rotation update failed at step %zu (t = %.6g): %s", e.failed_step,
-                static_cast<double>(e.failed_step) * h_, e.failure.brief().c_str());
-  return buf;
+  return step_failure_message(e.failed_step, static_cast<double>(e.failed_step) * h_, e.failure, e.non_finite, 6);
 }
 
 // --- multiple shooting -------------------------------------------------------------------------
@@ -498,9 +498,11 @@ bool DirectTranscription<Model>::shooting_nodes(const Eigen::VectorXd& c, int in
   for (std::size_t k = 0; k < steps_; ++k) {
     const RotationUpdateSummary r =
         lgvi_.step(s, h_, U.col(static_cast<Eigen::Index>(k)), U.col(static_cast<Eigen::Index>(k + 1)), next);
-    if (!r.converged()) {
+    const char* non_finite = r.converged() ? non_finite_part(next) : nullptr;
+    if (!r.converged() || non_finite != nullptr) {
       e.failed_step = k;
       e.failure = r;
+      e.non_finite = non_finite;
       e.ok = false;
       return false;
     }
@@ -568,6 +570,7 @@ bool DirectTranscription<Model>::evaluate_shooting(const ShootingNodes& n, const
   e.constraints.resize(shooting_constraints(n));
   e.states.resize(steps_ + static_cast<std::size_t>(K));
   e.ok = false;
+  e.non_finite = nullptr;
   for (int j = 0; j < K; ++j) {
     // Segment j starts at s_j (s_0 the fixed initial state).
     const std::size_t k_begin = n.nodes[static_cast<std::size_t>(j)], k_end = n.nodes[static_cast<std::size_t>(j + 1)];

@@ -38,6 +38,7 @@
 #include "lgvi/multibody_lgvi.hpp"
 #include "lgvi/range.hpp"
 #include "lgvi/ocp/spline.hpp"
+#include "lgvi/ocp/step_failure.hpp"
 
 namespace lgvi::ocp {
 
@@ -332,6 +333,7 @@ class DirectTranscription {
     bool ok = false;
     std::size_t failed_step = 0;
     RotationUpdateSummary failure;
+    const char* non_finite = nullptr;  ///< the part of s_{k+1} that overflowed (failure converged)
     double cost = 0.0;
     Eigen::VectorXd cost_gradient;           ///< n_u * knots
     Eigen::VectorXd constraints;             ///< rows handed to the optimizer
@@ -381,6 +383,7 @@ class DirectTranscription {
     bool ok = false;
     std::size_t failed_step = 0;
     RotationUpdateSummary failure;
+    const char* non_finite = nullptr;  ///< the part of s_{k+1} that overflowed (failure converged)
     double cost = 0.0;
     Eigen::VectorXd cost_gradient;     ///< with respect to x (zero on the z block)
     Eigen::VectorXd constraints;       ///< defects, then the terminal rows

@@ -188,10 +188,8 @@ class ShootingNlp : public Ipopt::TNLP {
     if (gradients) ++S_.gradient_evaluations;
     if (!tr_.evaluate_shooting(nodes_, x_, gradients, e_)) {
       ++S_.failed_simulations;
-      char buf[512];
-      std::snprintf(buf, sizeof buf, "rotation update failed at step %zu (t = %.6g): %s", e_.failed_step,
-                    static_cast<double>(e_.failed_step) * tr_.h(), e_.failure.brief().c_str());
-      S_.last_failure = buf;
+      S_.last_failure = step_failure_message(e_.failed_step, static_cast<double>(e_.failed_step) * tr_.h(),
+                                             e_.failure, e_.non_finite, 6);
       return false;
     }
     return true;

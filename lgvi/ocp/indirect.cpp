@@ -231,14 +231,11 @@ StateMultiplierFlow<Model>::StateMultiplierFlow(const System& system, const Tran
 
 template <class Model>
 std::string StateMultiplierFlow<Model>::failure_message(const Sweep& failed) const {
-  char buf[512];
   if (failed.failed_step >= steps_) {
-    std::snprintf(buf, sizeof buf, "non-finite terminal state or multiplier after %zu steps", steps_);
-  } else {
-    std::snprintf(buf, sizeof buf, "rotation update failed at step %zu (t = %.17g): %s", failed.failed_step,
-                  static_cast<double>(failed.failed_step) * h_, failed.failure.brief().c_str());
+    return "non-finite terminal state or multiplier after " + std::to_string(steps_) + " steps";
   }
-  return buf;
+  return step_failure_message(failed.failed_step, static_cast<double>(failed.failed_step) * h_, failed.failure,
+                              failed.non_finite);
 }
 
 template <class Model>
@@ -318,6 +315,7 @@ bool StateMultiplierFlow<Model>::run(const VecS& lambda0, bool sensitivities, Sw
   const std::size_t N = steps_;
   const auto [c0, c1] = impulse_weights(lgvi_.form(), h_);
   out.ok = false;
+  out.non_finite = nullptr;
   out.states.assign(1, initial_);
   out.controls.clear();
   out.multipliers.assign(1, lambda0);
@@ -388,9 +386,11 @@ bool StateMultiplierFlow<Model>::run(const VecS& lambda0, bool sensitivities, Sw
     const VecU u1 = -W_inverse_ * (model_.control_matrix(R1, x1).transpose() * lP_m);
     State s1;
     const RotationUpdateSummary stepped = lgvi_.step(s, h_, Model::control(u), Model::control(u1), s1);
-    if (!stepped.converged()) {
+    const char* non_finite = stepped.converged() ? non_finite_part(s1) : nullptr;
+    if (!stepped.converged() || non_finite != nullptr) {
       out.failed_step = k;
       out.failure = stepped;
+      out.non_finite = non_finite;
       out.cost = J;
       return false;
     }
@@ -399,6 +399,14 @@ bool StateMultiplierFlow<Model>::run(const VecS& lambda0, bool sensitivities, Sw
     if (sensitivities) kick_tangent(model_, W_inverse_, R1, x1, c1, u1, lP_m, G1, Z, Lam);
     lq_m -= c1 * G1.transpose() * lP_m;
     lam << lq_m, lP_m;
+    // The multiplier and the control overflow before the state does (a huge guess, a huge h).
+    if (!lam.allFinite() || !u1.allFinite()) {
+      out.failed_step = k;
+      out.failure = stepped;
+      out.non_finite = lam.allFinite() ? "u (control)" : "lambda (multiplier)";
+      out.cost = J;
+      return false;
+    }
     s = s1;
     u = u1;
     J += 0.5 * cost_weight(k + 1) * u.dot(W_ * u);
@@ -425,6 +433,7 @@ bool StateMultiplierFlow<Model>::run(const VecS& lambda0, bool sensitivities, Sw
 template <class Model>
 bool StateMultiplierFlow<Model>::simulate(const std::vector<VecU>& controls, Sweep& out) const {
   out.ok = false;
+  out.non_finite = nullptr;
   out.states.assign(1, initial_);
   out.controls = controls;
   out.multipliers.clear();
@@ -434,9 +443,11 @@ bool StateMultiplierFlow<Model>::simulate(const std::vector<VecU>& controls, Swe
     State s1;
     const RotationUpdateSummary stepped =
         lgvi_.step(s, h_, Model::control(controls[k]), Model::control(controls[k + 1]), s1);
-    if (!stepped.converged()) {
+    const char* non_finite = stepped.converged() ? non_finite_part(s1) : nullptr;
+    if (!stepped.converged() || non_finite != nullptr) {
       out.failed_step = k;
       out.failure = stepped;
+      out.non_finite = non_finite;
       return false;
     }
     s = s1;

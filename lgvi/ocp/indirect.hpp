@@ -45,6 +45,7 @@
 #include "lgvi/range.hpp"
 #include "lgvi/ocp/linearization.hpp"
 #include "lgvi/ocp/models.hpp"
+#include "lgvi/ocp/step_failure.hpp"
 
 namespace lgvi::ocp {
 
@@ -249,6 +250,7 @@ class StateMultiplierFlow {
     bool ok = false;
     std::size_t failed_step = 0;    ///< the step k -> k+1 whose rotation update failed
     RotationUpdateSummary failure;
+    const char* non_finite = nullptr;  ///< the part of s_{k+1} that overflowed (failure converged)
     VecS residual = VecS::Zero();
     MatS Psi12 = MatS::Zero();      ///< d w_N / d lambda_0 (w coordinates)
     MatS Psi22 = MatS::Zero();      ///< d lambda_N / d lambda_0

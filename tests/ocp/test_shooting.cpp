@@ -185,6 +185,50 @@ TEST(Shooting, DumbbellContinuationReachesNewtonArmijosExtremalWithin40Iteration
   expect_no_nan(S);
 }
 
+// A sweep whose converged step leaves a state, multiplier or control that is not finite stops
+// there, as a failed rotation update does: every state it keeps is finite (the trajectory the
+// CLI and Python write), and the message names the part. Found by the Python argument fuzz: the
+// dumbbell with a sphere radius of 1e-100 (its smallest principal moment ~1e-200, in the
+// documented range) kept a row of NaN momenta; the pendulum over t_final = 1e100 with a guess of
+// 1e100 kept infinite multipliers.
+TEST(Shooting, ASweepThatOverflowsStopsBeforeTheNonFiniteRow) {
+  const auto expect_finite_rows = [](const auto& sweep) {
+    for (const auto& s : sweep.states) {
+      EXPECT_TRUE(s.R.allFinite() && s.Pi.allFinite());
+    }
+    for (const auto& u : sweep.controls) EXPECT_TRUE(u.allFinite());
+    for (const auto& l : sweep.multipliers) EXPECT_TRUE(l.allFinite());
+  };
+  ShootingOptions o;  // as `ocp dumbbell|pendulum --steps 6 --max-iterations 3` (the scenes' form)
+  o.max_iterations = 3;
+  o.form = LgviForm::Printed;
+  {
+    const DumbbellSpacecraft paper = DumbbellSpacecraft::paper();
+    const DumbbellSpacecraft dumbbell(paper.mass, paper.mu, paper.rho, 1e-100);
+    const TransferProblem problem = TransferProblem::dumbbell_paper();
+    o.h = problem.t_final / 6.0;
+    o.initial_multiplier = Eigen::VectorXd::Zero(12);
+    const auto r = ocp::solve_indirect(dumbbell, problem, o);
+    EXPECT_EQ(r.summary.status, ShootingStatus::SweepFailed) << r.summary.brief();
+    EXPECT_NE(r.summary.message.find("Pi (body momentum) is not finite after step"), std::string::npos)
+        << r.summary.message;
+    EXPECT_LT(r.sweep.states.size(), 7u);
+    expect_finite_rows(r.sweep);
+  }
+  {
+    TransferProblem problem = TransferProblem::pendulum_paper();
+    problem.t_final = 1e100;
+    o.h = problem.t_final / 6.0;
+    o.initial_multiplier = 1e100 * Eigen::VectorXd::Ones(6);
+    const auto r = ocp::solve_indirect(Pendulum3D::paper(), problem, o);
+    EXPECT_EQ(r.summary.status, ShootingStatus::SweepFailed) << r.summary.brief();
+    EXPECT_NE(r.summary.message.find("lambda (multiplier) is not finite after step 0"), std::string::npos)
+        << r.summary.message;
+    EXPECT_EQ(r.sweep.states.size(), 1u);
+    expect_finite_rows(r.sweep);
+  }
+}
+
 TEST(Shooting, BadInputEndsWithStatusAndMessage) {
   const Pendulum3D pendulum = Pendulum3D::paper();
   const TransferProblem problem = TransferProblem::pendulum_paper();
@@ -241,7 +285,7 @@ TEST(Shooting, BadInputEndsWithStatusAndMessage) {
     ShootingSummary S = solve(o, problem);
     EXPECT_EQ(S.status, ShootingStatus::InvalidInput);
     EXPECT_NE(S.message.find("initial_multiplier"), std::string::npos) << S.message;
-    o.initial_multiplier = Eigen::VectorXd::Ones(12);
+    o.initial_multiplier = Eigen::VectorXd::Zero(12);
     S = solve(o, problem);
     EXPECT_EQ(S.status, ShootingStatus::InvalidInput);
   }

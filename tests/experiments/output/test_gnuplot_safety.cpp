@@ -95,3 +95,34 @@ TEST(GnuplotSafety, SuiteOutputDirectoryStartingWithLessThanRunsNothing) {
 
 }  // namespace
 }  // namespace lgvi::experiments
+
+namespace lgvi::experiments {
+
+// A figure whose every curve is exactly 0 at every sample (a quantity conserved to the last bit,
+// a body at rest; found by the Python argument fuzz: a 10-step pendulum's vertical momentum
+// error) is still drawn: gnuplot cannot autoscale a log axis without a point ("all points y
+// value undefined", and the suite failed), so each script counts the points first and gives such
+// a figure a fixed range and a label.
+TEST(GnuplotFigures, AQuantityExactlyZeroAtEverySampleIsStillDrawn) {
+  test::TempDir dir;
+  const fs::path csv = dir.work() / "zero.csv";
+  test::write_text(csv, "t,iteration,energy_error,momentum_error,orthogonality_error\n0,0,0,0,0\n1,1,-0,0,0\n2,2,0,0,0\n");
+  for (const char* script : {"energy_error.gp", "momentum.gp", "orthogonality.gp"}) {
+    const fs::path png = dir.work() / (std::string(script) + ".png");
+    render_plot(default_gnuplot(), default_plots_dir() / script, png, "zero", "t", "error", {{csv, "zero"}});
+    EXPECT_TRUE(is_complete_png(png)) << script;
+  }
+  // The curve-list scripts (suites/common.cpp: plot_time_series, plot_iterations).
+  const fs::path list = dir.work() / "curves.gp";
+  test::write_text(list, "n = 1\narray file[n]\narray label[n]\nfile[1] = " + gnuplot_path_literal(csv) +
+                             "\nlabel[1] = \"zero\"\n");
+  for (const auto& [script, column] :
+       {std::pair{"time_series.gp", "momentum_error"}, std::pair{"iteration_history.gp", "energy_error"}}) {
+    const fs::path png = dir.work() / (std::string(script) + ".png");
+    run_gnuplot_script(default_gnuplot(), default_plots_dir() / script, png,
+                       {"zero", "t", "error", gnuplot_path(list), column});
+    EXPECT_TRUE(is_complete_png(png)) << script;
+  }
+}
+
+}  // namespace lgvi::experiments

@@ -698,7 +698,12 @@ TEST(SceneErrors, NonAsciiCharactersTomlWouldMisreadAreRefusedFirst) {
                         Case{head + "\xc2\xa1 = 1\n", "line 2, column 1"},
                         Case{head + "[a\xce\xaa]\n", "line 2, column 3"},
                         Case{head + "d = \"\"\"x\\\xce\xaa\"\"\"\n", "line 2, column 10"},
-                        Case{head + "d = \"\"\"x\\\n  \xce\xaay\"\"\"\n", "line 3, column 3"}}) {
+                        Case{head + "d = \"\"\"x\\\n  \xce\xaay\"\"\"\n", "line 3, column 3"},
+                        // A quote inside a bare value opens no string: toml++ reads on as one value.
+                        Case{head + "l = 1'\xc4\xa0 .0\n", "line 2, column 7"},
+                        Case{head + "l = [1, 2\"\xc4\xa0\"]\n", "line 2, column 11"},
+                        Case{head + "l = 1.'\xc4\xa0'\n", "line 2, column 8"},
+                        Case{head + "l = { a = 1\"\xc4\xa0\" }\n", "line 2, column 13"}}) {
     const SceneError e = scene_error(c.text);
     EXPECT_EQ(e.field(), c.field) << c.text << ": " << e.what();
     EXPECT_NE(e.reason().find("non-ASCII"), std::string::npos) << e.what();
@@ -710,6 +715,15 @@ TEST(SceneErrors, NonAsciiCharactersTomlWouldMisreadAreRefusedFirst) {
                                   "[integration]\nh = 0.1\nt_final = 1.0\n",
                                   "test.toml");
   EXPECT_EQ(scene.description, "\xce\xaa \xc2\xa1");
+  // Quoted strings and key parts wherever TOML begins one: they reach the reader, which names
+  // the unknown key (not the text scan's non-ASCII error).
+  for (const std::string& text :
+       {head + "\"\xce\xaa\" = 1\n", head + "a.\"\xce\xaa\" = 1\n", head + "a . '\xce\xaa' = 1\n",
+        head + "[\"\xce\xaa\"]\n", head + "[[a.'\xce\xaa']]\n", head + "x = { \"\xce\xaa\" = 1, b.'\xce\xaa' = 2 }\n",
+        head + "x = [\"\xce\xaa\",\n  '\xce\xaa', [\"\xce\xaa\"], { a = \"\xce\xaa\" }]\n", head + "x=\"\xce\xaa\"\n"}) {
+    const SceneError e = scene_error(text);
+    EXPECT_EQ(e.reason().find("non-ASCII"), std::string::npos) << text << ": " << e.what();
+  }
 }
 
 }  // namespace lgvi::experiments
