@@ -21,9 +21,9 @@ namespace {
 /// counts too (harmless: one per value). Strings are skipped with TOML's rules (basic with
 /// escapes, literal, multi-line with up to two extra closing quotes); an unterminated one ends
 /// the scan (toml++ then reports it). A quote opens a string only where toml++ begins one: at
-/// the start of a value (after '=', '[' of an array, ',' or a line break in an array) or of a
-/// key part (at a line's start, after '[' of a header, '{', ',' in an inline table, or '.' in a
-/// key). Anywhere else, inside a bare value such as `1'x`, toml++ reads the quote as one more
+/// the start of a value (after the '=' that ends a key, '[' of an array, ',' or a line break in
+/// an array) or of a key part (at a line's start, after '[' of a header, '{', ',' in an inline
+/// table, or '.' in a key). Anywhere else, inside a bare value such as `1'x`, toml++ reads the quote as one more
 /// character of the value and asks of each following one whether it is whitespace, so the scan
 /// reads on there as outside strings (found by the [ocp] fuzzer).
 /// It also refuses the non-ASCII characters toml++ 3.3 would ask "is this Unicode whitespace?"
@@ -40,7 +40,7 @@ void check_structure(std::string_view text, const TomlReader& r) {
   int base = 0;                // nesting of the enclosing levels
   int dots = 0;                // dots since the last separator at this level
   bool in_key = true;          // reading a key (else a value)
-  char previous = '\n';        // the last character other than a space or tab ('\n' at the start)
+  bool token_start = true;     // the next character other than a space or tab begins a key part or value
   const auto fail_at = [&](std::size_t i, const std::string& reason) {
     r.fail("line " + std::to_string(line) + ", column " + std::to_string(i - line_start + 1), reason);
   };
@@ -55,14 +55,19 @@ void check_structure(std::string_view text, const TomlReader& r) {
   const std::size_t n = text.size();
   // A UTF-8 byte order mark, which toml++ skips.
   const std::size_t first = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
-  for (std::size_t i = first; i < n; previous = (text[i] == ' ' || text[i] == '\t') ? previous : text[i], ++i) {
+  for (std::size_t i = first; i < n; ++i) {
     const char c = text[i];
     if (non_ascii(i)) {
       fail_at_byte(i, "a non-ASCII character outside a string or comment (TOML allows them in strings, quoted keys "
                       "and comments only)");
     }
-    const bool string_may_start = previous == '\n' || previous == '=' || previous == '[' || previous == '{' ||
-                                  previous == ',' || (previous == '.' && in_key);
+    const bool string_may_start = token_start;
+    if (c != ' ' && c != '\t') {
+      // A key part or value begins after a line break, '[' or '{'; after the '=' that ends a key
+      // (a second '=' is inside the value); after '.' in a key; after ',' in an array or inline table.
+      token_start = c == '\n' || c == '[' || c == '{' || ((c == '=' || c == '.') && in_key) ||
+                    (c == ',' && !kinds.empty());
+    }
     if (c == '\n') {
       ++line;
       line_start = i + 1;

@@ -703,7 +703,8 @@ TEST(SceneErrors, NonAsciiCharactersTomlWouldMisreadAreRefusedFirst) {
                         Case{head + "l = 1'\xc4\xa0 .0\n", "line 2, column 7"},
                         Case{head + "l = [1, 2\"\xc4\xa0\"]\n", "line 2, column 11"},
                         Case{head + "l = 1.'\xc4\xa0'\n", "line 2, column 8"},
-                        Case{head + "l = { a = 1\"\xc4\xa0\" }\n", "line 2, column 13"}}) {
+                        Case{head + "l = { a = 1\"\xc4\xa0\" }\n", "line 2, column 13"},
+                        Case{head + "l =2\x01=\"\xc4\xa0\x06\n", "line 2, column 8"}}) {
     const SceneError e = scene_error(c.text);
     EXPECT_EQ(e.field(), c.field) << c.text << ": " << e.what();
     EXPECT_NE(e.reason().find("non-ASCII"), std::string::npos) << e.what();
