@@ -350,7 +350,8 @@ TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
   const CliResult r = run_testbed(dir, {"scenes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  const std::vector<std::string> names = {"cart-pendulum",       "connected-bodies",     "detest-b5",
+  const std::vector<std::string> names = {"cart-pendulum",       "connected-bodies",
+                                          "connected-bodies-controlled",                 "detest-b5",
                                           "dumbbell",            "free-body",            "hlw-rigid-body",
                                           "lagrange-top",        "manifold-rigid-body",  "ocp-cart-pendulum",
                                           "ocp-connected-bodies", "ocp-dumbbell",        "ocp-free-body-slew",
@@ -381,7 +382,8 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
   std::vector<std::string> expected = {"summary.csv", "summary.jsonl", "suite-journal.jsonl", "suite-run.json"};
-  for (const char* scene : {"cart-pendulum", "connected-bodies", "detest-b5", "dumbbell", "free-body", "hlw-rigid-body",
+  for (const char* scene : {"cart-pendulum", "connected-bodies", "connected-bodies-controlled", "detest-b5", "dumbbell",
+                            "free-body", "hlw-rigid-body",
                             "lagrange-top", "manifold-rigid-body", "pendulum", "pendulum-controlled",
                             "spacecraft-tumble", "symmetric-top"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
