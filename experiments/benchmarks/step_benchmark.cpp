@@ -68,6 +68,20 @@ RotationUpdateOptions with_primary(Parametrization p) {
   return o;
 }
 
+/// The benchmarks' names in the order they were registered: the closing table's row order (the
+/// runs arrive shuffled under --benchmark_enable_random_interleaving).
+std::vector<std::string>& registration_order() {
+  static std::vector<std::string> names;
+  return names;
+}
+
+/// benchmark::RegisterBenchmark, recording the name.
+template <class Fn>
+void register_step(const std::string& name, Fn&& fn) {
+  registration_order().push_back(name);
+  benchmark::RegisterBenchmark(name.c_str(), std::forward<Fn>(fn));
+}
+
 /// Steps `step(s)` (returning the summary) once per benchmark iteration; counts Newton iterations.
 template <class State, class Step>
 void run_steps(benchmark::State& bench, State s, Step&& step) {
@@ -110,7 +124,7 @@ void run_flow_steps(benchmark::State& bench, const Flow& flow, State s, double h
 
 template <class System, class Tableau, template <class, class> class FlowOf>
 void register_lie_group(const AttitudeCase<System>& c, const char* name) {
-  benchmark::RegisterBenchmark((c.name + "/" + name).c_str(), [c](benchmark::State& bench) {
+  register_step(c.name + "/" + name, [c](benchmark::State& bench) {
     using Mech = baselines::AttitudeMechanics<System>;
     const Mech mech(c.system);
     run_flow_steps(bench, FlowOf<Mech, Tableau>(mech), mechanics_start<Mech>(c), c.h);
@@ -120,7 +134,7 @@ void register_lie_group(const AttitudeCase<System>& c, const char* name) {
 /// Steps a symplectic method's flow (baselines/splitting.hpp) over the case's attitude mechanics.
 template <template <class> class FlowOf, class System>
 void register_splitting(const AttitudeCase<System>& c, const char* name) {
-  benchmark::RegisterBenchmark((c.name + "/" + name).c_str(), [c](benchmark::State& bench) {
+  register_step(c.name + "/" + name, [c](benchmark::State& bench) {
     using Mech = baselines::AttitudeMechanics<System>;
     const Mech mech(c.system);
     const FlowOf<Mech> flow(mech);
@@ -131,7 +145,7 @@ void register_splitting(const AttitudeCase<System>& c, const char* name) {
 /// Steps an RK4 yardstick (quaternion_rk4.hpp, matrix_rk4.hpp) from the case's state.
 template <class Rk4, class System>
 void register_yardstick(const AttitudeCase<System>& c, const char* name) {
-  benchmark::RegisterBenchmark((c.name + "/" + name).c_str(), [c](benchmark::State& bench) {
+  register_step(c.name + "/" + name, [c](benchmark::State& bench) {
     const Rk4 rk4(c.system);
     auto s = rk4.make_state(c.R0, c.Omega0);
     for (auto _ : bench) {
@@ -145,13 +159,13 @@ void register_yardstick(const AttitudeCase<System>& c, const char* name) {
 template <class System>
 void register_attitude(const AttitudeCase<System>& c) {
   for (const Parametrization p : {Parametrization::Cayley, Parametrization::Exponential}) {
-    benchmark::RegisterBenchmark((c.name + "/lgvi-" + to_string(p)).c_str(), [c, p](benchmark::State& bench) {
+    register_step(c.name + "/lgvi-" + to_string(p), [c, p](benchmark::State& bench) {
       const AttitudeLgvi<System> lgvi(c.system, LgviForm::Symmetric, with_primary(p));
       const Vec3 u = Vec3::Zero();
       run_steps(bench, lgvi.make_state(c.R0, c.Omega0),
                 [&](AttitudeState& s) { return lgvi.step(s, c.h, u, u, s); });
     });
-    benchmark::RegisterBenchmark((c.name + "/reference-" + to_string(p)).c_str(), [c, p](benchmark::State& bench) {
+    register_step(c.name + "/reference-" + to_string(p), [c, p](benchmark::State& bench) {
       const AttitudeLgvi<System> lgvi(c.system, LgviForm::Symmetric, with_primary(p));
       const reference::RotationUpdateSolver solver(c.system.inertia, with_primary(p));
       const Vec3 u = Vec3::Zero();
@@ -162,7 +176,7 @@ void register_attitude(const AttitudeCase<System>& c) {
   }
   register_yardstick<QuaternionRk4<System>>(c, "rk4-quaternion");
   register_yardstick<MatrixRk4<System>>(c, "rk4-matrix");
-  benchmark::RegisterBenchmark((c.name + "/lgvi-minimal").c_str(), [c](benchmark::State& bench) {
+  register_step(c.name + "/lgvi-minimal", [c](benchmark::State& bench) {
     const MinimalLgvi<System> lgvi(c.system);
     auto s = lgvi.make_state(c.R0, c.Omega0);
     std::size_t newton = 0;
@@ -184,7 +198,7 @@ void register_attitude(const AttitudeCase<System>& c) {
   register_lie_group<System, lg::ClassicalRk4Tableau, lg::RkmkFlow>(c, "rkmk4");
   register_lie_group<System, lg::CrouchGrossman3Tableau, lg::CrouchGrossmanFlow>(c, "cg3");
   register_lie_group<System, lg::CrouchGrossman4aTableau, lg::CrouchGrossmanFlow>(c, "cg4");
-  benchmark::RegisterBenchmark((c.name + "/cf4").c_str(), [c](benchmark::State& bench) {
+  register_step(c.name + "/cf4", [c](benchmark::State& bench) {
     using Mech = baselines::AttitudeMechanics<System>;
     const Mech mech(c.system);
     run_flow_steps(bench, lg::CommutatorFree4Flow<Mech>(mech), mechanics_start<Mech>(c), c.h);
@@ -230,15 +244,15 @@ void register_dumbbell() {
       R0 << 0, -1, 0, 1, 0, 0, 0, 0, 1;
       return lgvi.make_state(R0, Vec3(1, 0, 0), Vec3(0.1, -0.2, 1.3), Vec3(0.05, 0.95, 0.1));
     };
-    benchmark::RegisterBenchmark((std::string("dumbbell/lgvi-") + to_string(p)).c_str(),
-                                 [p, make](benchmark::State& bench) {
+    register_step(std::string("dumbbell/lgvi-") + to_string(p),
+                  [p, make](benchmark::State& bench) {
       const DumbbellSpacecraft dumbbell = DumbbellSpacecraft::paper();
       const DumbbellLgvi lgvi(dumbbell, LgviForm::Symmetric, with_primary(p));
       const DumbbellSpacecraft::Control u;
       run_steps(bench, make(lgvi), [&](RigidBodyState& s) { return lgvi.step(s, 1e-2, u, u, s); });
     });
-    benchmark::RegisterBenchmark((std::string("dumbbell/reference-") + to_string(p)).c_str(),
-                                 [p, make](benchmark::State& bench) {
+    register_step(std::string("dumbbell/reference-") + to_string(p),
+                  [p, make](benchmark::State& bench) {
       const DumbbellSpacecraft dumbbell = DumbbellSpacecraft::paper();
       const DumbbellLgvi lgvi(dumbbell, LgviForm::Symmetric, with_primary(p));
       const reference::RotationUpdateSolver solver(dumbbell.inertia, with_primary(p));
@@ -255,13 +269,13 @@ void register_multibody() {
     return lgvi.make_state(so3::exp(Vec3(0.5, -0.3, 0.2)), Vec2(0.1, -0.2), Vec3(1.0, -0.5, 2.0),
                            Vec2(0.3, 0.1));
   };
-  benchmark::RegisterBenchmark("cart-pendulum/lgvi", [cart_state](benchmark::State& bench) {
+  register_step("cart-pendulum/lgvi", [cart_state](benchmark::State& bench) {
     const CartPendulum cart = CartPendulum::paper();
     const CartPendulumLgvi lgvi(cart);
     const Vec2 u = Vec2::Zero();
     run_steps(bench, cart_state(lgvi), [&](CartPendulumState& s) { return lgvi.step(s, 1e-3, u, u, s); });
   });
-  benchmark::RegisterBenchmark("cart-pendulum/reference", [cart_state](benchmark::State& bench) {
+  register_step("cart-pendulum/reference", [cart_state](benchmark::State& bench) {
     const CartPendulum cart = CartPendulum::paper();
     const CartPendulumLgvi lgvi(cart);
     const Vec2 u = Vec2::Zero();
@@ -273,14 +287,14 @@ void register_multibody() {
     return lgvi.make_state(Mat3::Identity(), so3::exp(Vec3(0.3, 0.2, -0.1)), Vec3(0.5, -0.4, 0.3),
                            Vec3(-0.2, 0.6, 0.1));
   };
-  benchmark::RegisterBenchmark("connected-bodies/lgvi", [bodies_state](benchmark::State& bench) {
+  register_step("connected-bodies/lgvi", [bodies_state](benchmark::State& bench) {
     const ConnectedBodies bodies = ConnectedBodies::paper();
     const ConnectedBodiesLgvi lgvi(bodies);
     const Vec3 u = Vec3::Zero();
     run_steps(bench, bodies_state(lgvi),
               [&](ConnectedBodiesState& s) { return lgvi.step(s, 1e-2, u, u, s); });
   });
-  benchmark::RegisterBenchmark("connected-bodies/reference", [bodies_state](benchmark::State& bench) {
+  register_step("connected-bodies/reference", [bodies_state](benchmark::State& bench) {
     const ConnectedBodies bodies = ConnectedBodies::paper();
     const ConnectedBodiesLgvi lgvi(bodies);
     const Vec3 u = Vec3::Zero();
@@ -293,8 +307,8 @@ void register_multibody() {
 /// One composed step (all substeps) of the pendulum LGVI.
 void register_composed() {
   for (const char* scheme : {"yoshida4", "kahan-li6"}) {
-    benchmark::RegisterBenchmark((std::string("pendulum-composed/") + scheme).c_str(),
-                                 [scheme](benchmark::State& bench) {
+    register_step(std::string("pendulum-composed/") + scheme,
+                  [scheme](benchmark::State& bench) {
       const Pendulum3D pendulum = Pendulum3D::paper();
       const AttitudeLgvi base(pendulum);
       const ComposedLgvi composed(base, composition_scheme(scheme));
@@ -312,7 +326,8 @@ void register_composed() {
 /// The console output plus a summary table: per benchmark "system/method", the CPU time per step
 /// (the median over the repetitions when --benchmark_repetitions > 1), its ratios to the system's
 /// yardsticks "system/rk4-quaternion", "system/rk4-matrix", "system/lgvi-minimal" and to
-/// "system/reference-<chart>" (or "system/reference"), and the Newton iterations per step.
+/// "system/reference-<chart>" (or "system/reference"), and the Newton iterations per step; rows in
+/// the order of registration.
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
   void ReportRuns(const std::vector<Run>& runs) override {
@@ -326,9 +341,6 @@ class RatioReporter : public benchmark::ConsoleReporter {
       row.ns = r.GetAdjustedCPUTime() * time_unit_to_ns(r.time_unit);
       const auto it = r.counters.find("newton_per_step");
       row.newton = it == r.counters.end() ? -1.0 : static_cast<double>(it->second);
-      if (std::find(order_.begin(), order_.end(), r.run_name.function_name) == order_.end()) {
-        order_.push_back(r.run_name.function_name);
-      }
     }
   }
 
@@ -336,8 +348,10 @@ class RatioReporter : public benchmark::ConsoleReporter {
     ConsoleReporter::Finalize();
     std::printf("\n%-34s %12s %10s %10s %10s %12s %7s\n", "step", "CPU ns/step", "/ rk4-quat",
                 "/ rk4-mat", "/ minimal", "/ reference", "newton");
-    for (const std::string& name : order_) {
-      const Row& row = rows_[name];
+    for (const std::string& name : registration_order()) {
+      const auto it = rows_.find(name);
+      if (it == rows_.end()) continue;  // filtered out, or failed
+      const Row& row = it->second;
       const std::string system = name.substr(0, name.find('/'));
       const std::string method = name.substr(name.find('/') + 1);
       const bool has_reference = method.rfind("lgvi", 0) == 0 && method != "lgvi-minimal";
@@ -374,7 +388,6 @@ class RatioReporter : public benchmark::ConsoleReporter {
     return it == rows_.end() || it->second.ns <= 0.0 ? "" : format("%.2f", ns / it->second.ns);
   }
   std::map<std::string, Row> rows_;
-  std::vector<std::string> order_;
 };
 
 }  // namespace
