@@ -11,7 +11,8 @@
 // with F = cay(f) = I + 2/(1 + |f|^2) (hat(f) + hat(f)^2) and h p = h (Pi_k + h/2 M_k), the
 // matrix equation is the polynomial H(f) = J f + f x J f - (1 + |f|^2)/2 h p = 0, whose Newton
 // matrix is dH = J + hat(f) J - hat(J f) - h p f^T, from the warm start f = J^{-1} h p / 2, with
-// the same convergence test |G| <= 16 eps (|h p| + ||J||_F (a |f| + b |f|^2)), G = 2 H / (1 + |f|^2).
+// the same convergence test |G| <= 16 eps (|h p| + ||J||_F (a |f| + b |f|^2)),
+// G = 2 H / (1 + |f|^2), a = b = 2 / (1 + |f|^2).
 // Unlike the project's solver: no domain check, no polishing step, no fallback chart, no pivoted
 // solve of a nearly singular Newton matrix (the adjugate only), no summary beyond the iteration
 // count, no control. Then R_{k+1} row by row (r F = r + a (r x f + (r x f) x f)) and

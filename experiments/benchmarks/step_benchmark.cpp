@@ -26,8 +26,8 @@
 //   ./build/experiments/benchmarks/lgvi-benchmarks --benchmark_repetitions=9
 //     --benchmark_enable_random_interleaving=true --benchmark_filter='^(free-body|pendulum)/'
 // (on the shared development machine under `flock /tmp/lgvi-build.lock`, so that no build runs
-// beside it), with the repetitions interleaved at random, so that a slow spell of the machine spreads over
-// all methods rather than landing on one, and CPU time, so that preemption is not counted.
+// beside it): the repetitions interleaved at random, so that a slow spell of the machine spreads
+// over all methods rather than landing on one, and CPU time, so that preemption is not counted.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -398,10 +398,12 @@ int main(int argc, char** argv) {
 
   const AttitudeCase<FreeRigidBody> free_body = benchmarks::free_body_case();
   const AttitudeCase<Pendulum3D> pendulum = benchmarks::pendulum_case();
-  std::printf("|R - R_lgvi|_F + |Omega - Omega_lgvi| after 1000 steps from the same state, against the\n"
-              "LGVI (Cayley): the RK4s differ by O(h^2), the minimal LGVI by round-off:\n");
-  for (const auto& [name, d] : {std::pair{"free-body (h = 1e-2)", trajectory_differences(free_body, 1000)},
-                                std::pair{"pendulum (h = 1e-3)", trajectory_differences(pendulum, 1000)}}) {
+  std::printf("|R - R_lgvi|_F + |Omega - Omega_lgvi| after 1000 steps from the same state, against\n"
+              "the LGVI (Cayley): the RK4s differ by O(h^2), the minimal LGVI by round-off:\n");
+  const TrajectoryDifferences free_body_differences = trajectory_differences(free_body, 1000);
+  const TrajectoryDifferences pendulum_differences = trajectory_differences(pendulum, 1000);
+  for (const auto& [name, d] : {std::pair{"free-body (h = 1e-2)", free_body_differences},
+                                std::pair{"pendulum (h = 1e-3)", pendulum_differences}}) {
     std::printf("  %-21s rk4-quaternion %.3g, rk4-matrix %.3g, lgvi-minimal %.3g\n", name,
                 d.rk4_quaternion, d.rk4_matrix, d.lgvi_minimal);
   }

@@ -39,8 +39,8 @@ using benchmarks::MinimalLgvi;
 /// The project's step as the reference map, its Newton iterations counted without the polishing
 /// step (the minimal step does not polish).
 template <class System>
-RotationUpdateSummary project_step(const AttitudeLgvi<System>& lgvi, const AttitudeState& in, double h,
-                                   AttitudeState& out) {
+RotationUpdateSummary project_step(const AttitudeLgvi<System>& lgvi, const AttitudeState& in,
+                                   double h, AttitudeState& out) {
   const Vec3 u = Vec3::Zero();
   RotationUpdateSummary s = lgvi.step(in, h, u, u, out);
   if (s.polished) --s.iterations;
@@ -54,7 +54,8 @@ RotationUpdateSummary minimal_step(const MinimalLgvi<System>& minimal, const Att
   out = in;
   RotationUpdateSummary s;
   s.iterations = minimal.step(out, h);
-  s.status = s.iterations >= 0 ? RotationUpdateStatus::Converged : RotationUpdateStatus::NotConverged;
+  s.status =
+      s.iterations >= 0 ? RotationUpdateStatus::Converged : RotationUpdateStatus::NotConverged;
   return s;
 }
 
