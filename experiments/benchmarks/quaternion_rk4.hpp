@@ -1,21 +1,23 @@
-// The yardstick of the step-cost benchmark: one classical fixed-step RK4 step of the quaternion
-// model of an attitude system (free rigid body, 3D pendulum), written as a user would write it
-// for speed: fixed-size Eigen types, no heap, no virtual calls, the physics from lgvi/systems.
+// A yardstick of the step-cost benchmark: one classical fixed-step RK4 step of the quaternion
+// model of an attitude system (free rigid body, 3D pendulum), written for speed as a user would
+// write it: plain doubles in registers (plain3.hpp), every call inlined (LGVI_FLATTEN and
+// always_inline helpers, the flags of the LGVI step), no heap, no virtual calls, the physics
+// from lgvi/systems.
 //
 //   q' = 1/2 q (x) (0, Omega)        (q = (w, v) a unit quaternion, body angular velocity Omega)
 //   Omega' = J^{-1} (J Omega x Omega + M(R(q)))
 //
 // with M = system.moment (eq. 13; zero for the free body) and R(q) = (w^2 - |v|^2) I + 2 v v^T
-// + 2 w hat(v) (the form of baselines/coordinates.hpp). Uncontrolled: the benchmark's LGVI steps
-// run with a zero control, which they still evaluate, so the comparison does not favour the LGVI.
-// Four right-hand sides per step, one potential evaluation each; q is not renormalized.
+// + 2 w hat(v) (the form of baselines/coordinates.hpp). Uncontrolled (the benchmark's LGVI steps
+// evaluate a zero control, so the comparison does not favour the LGVI). Four right-hand sides
+// per step, one potential evaluation each; q is not renormalized.
 #pragma once
 
 #include <Eigen/Dense>
 
 #include "lgvi/lgvi.hpp"
-#include "lgvi/so3.hpp"
 #include "lgvi/types.hpp"
+#include "plain3.hpp"
 
 namespace lgvi::benchmarks {
 
@@ -38,41 +40,56 @@ class QuaternionRk4 {
   }
 
   /// R(q) = (w^2 - |v|^2) I + 2 v v^T + 2 w hat(v).
-  static Mat3 rotation(const Quaternion& q) {
-    const double w = q(0);
-    const Vec3 v = q.tail<3>();
-    return (w * w - v.squaredNorm()) * Mat3::Identity() + 2.0 * v * v.transpose() +
-           2.0 * w * so3::hat(v);
-  }
+  static Mat3 rotation(const Quaternion& q) { return rotation(Plain{q(0), {q(1), q(2), q(3)}}); }
 
   /// One RK4 step of size h, in place.
-  void step(State& s, double h) const {
-    State k1, k2, k3, k4;
-    rate(s, k1);
-    rate(axpy(s, 0.5 * h, k1), k2);
-    rate(axpy(s, 0.5 * h, k2), k3);
-    rate(axpy(s, h, k3), k4);
+  LGVI_FLATTEN void step(State& s, double h) const {
+    using namespace plain;
+    const Rows3 J = rows3(system_.inertia.J), J_inverse = rows3(system_.inertia.J_inverse);
+    const Plain q{s.q(0), {s.q(1), s.q(2), s.q(3)}};
+    const V3 Omega = v3(s.Omega);
+    Plain dq1, dq2, dq3, dq4;
+    V3 dw1, dw2, dw3, dw4;
+    rate(J, J_inverse, q, Omega, dq1, dw1);
+    rate(J, J_inverse, axpy(q, 0.5 * h, dq1), Omega + (0.5 * h) * dw1, dq2, dw2);
+    rate(J, J_inverse, axpy(q, 0.5 * h, dq2), Omega + (0.5 * h) * dw2, dq3, dw3);
+    rate(J, J_inverse, axpy(q, h, dq3), Omega + h * dw3, dq4, dw4);
     const double c = h / 6.0;
-    s.q += c * (k1.q + 2.0 * (k2.q + k3.q) + k4.q);
-    s.Omega += c * (k1.Omega + 2.0 * (k2.Omega + k3.Omega) + k4.Omega);
+    const Plain dq{dq1.w + 2.0 * (dq2.w + dq3.w) + dq4.w, dq1.v + 2.0 * (dq2.v + dq3.v) + dq4.v};
+    const Plain q1 = axpy(q, c, dq);
+    const V3 Omega1 = Omega + c * (dw1 + 2.0 * (dw2 + dw3) + dw4);
+    s.q = Quaternion(q1.w, q1.v.x, q1.v.y, q1.v.z);
+    s.Omega = vec3(Omega1);
   }
 
   const S& system() const { return system_; }
 
  private:
-  static State axpy(const State& s, double a, const State& k) {
-    return State{s.q + a * k.q, s.Omega + a * k.Omega};
+  /// A quaternion (w, v) on plain doubles.
+  struct Plain {
+    double w;
+    plain::V3 v;
+  };
+  static Plain axpy(const Plain& q, double a, const Plain& d) {
+    return {q.w + a * d.w, q.v + a * d.v};
+  }
+  static Mat3 rotation(const Plain& q) {
+    const double w = q.w, x = q.v.x, y = q.v.y, z = q.v.z;
+    const double d = w * w - (x * x + y * y + z * z);
+    Mat3 R;
+    R << d + 2.0 * x * x, 2.0 * (x * y - w * z), 2.0 * (x * z + w * y),  //
+        2.0 * (y * x + w * z), d + 2.0 * y * y, 2.0 * (y * z - w * x),   //
+        2.0 * (z * x - w * y), 2.0 * (z * y + w * x), d + 2.0 * z * z;
+    return R;
   }
 
-  /// (q', Omega') at s.
-  void rate(const State& s, State& d) const {
-    const double w = s.q(0);
-    const Vec3 v = s.q.template tail<3>();
-    d.q(0) = -0.5 * v.dot(s.Omega);
-    d.q.template tail<3>() = 0.5 * (w * s.Omega + v.cross(s.Omega));
-    const Mat3& J = system_.inertia.J;
-    d.Omega = system_.inertia.J_inverse *
-              ((J * s.Omega).cross(s.Omega) + system_.moment(rotation(s.q)));
+  /// (q', Omega') at (q, Omega).
+  void rate(const plain::Rows3& J, const plain::Rows3& J_inverse, const Plain& q,
+            const plain::V3& Omega, Plain& dq, plain::V3& dOmega) const {
+    using namespace plain;
+    dq.w = -0.5 * dot(q.v, Omega);
+    dq.v = 0.5 * (q.w * Omega + cross(q.v, Omega));
+    dOmega = J_inverse * (cross(J * Omega, Omega) + v3(system_.moment(rotation(q))));
   }
 
   const S& system_;
