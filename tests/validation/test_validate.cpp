@@ -252,7 +252,8 @@ const std::vector<PlantedDefect>& planted_defects() {
       // final states move.
       {"control-timing", "order",
        {"order/cart-pendulum-controlled/lgvi", "order/free-body-controlled/lgvi", "order/dumbbell-controlled/lgvi",
-        "order/pendulum-controlled/lgvi", "order/connected-bodies/lgvi", "final/cart-pendulum-controlled/lgvi-printed",
+        "order/pendulum-controlled/lgvi", "order/connected-bodies-controlled/lgvi",
+        "final/cart-pendulum-controlled/lgvi-printed",
         "final/free-body-controlled/lgvi-printed", "final/dumbbell-controlled/lgvi-printed",
         "final/pendulum-controlled/lgvi-printed"}},
       // The cart-pendulum's attitude random-walks off SO(3): above its bounded floor.

@@ -394,11 +394,11 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   EXPECT_EQ(files, expected);  // and no temporaries
 
   const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.jsonl"));
-  ASSERT_EQ(summary.size(), 24u);  // one JSON object per run
-  // The metadata lines ('#') state the units and what each error column is; then header + 24 rows.
+  ASSERT_EQ(summary.size(), 26u);  // one JSON object per run: 13 scenes, 2 forms
+  // The metadata lines ('#') state the units and what each error column is; then header + 26 rows.
   const std::vector<std::string> csv = lines_of(read_text(dir.work() / "res" / "summary.csv"));
   const auto metadata_end = std::find_if(csv.begin(), csv.end(), [](const std::string& l) { return !l.starts_with("#"); });
-  EXPECT_EQ(csv.end() - metadata_end, 25);
+  EXPECT_EQ(csv.end() - metadata_end, 27);
   const std::string metadata = std::accumulate(csv.begin(), metadata_end, std::string());
   for (const char* line : {"# suite: default", "# form: full", "# units: ", "# errors: ",
                            "# columns.max_energy_error_relative: ", "# columns.max_energy_error_absolute: ",
