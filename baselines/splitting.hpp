@@ -352,11 +352,11 @@ class RattleFlow : public Splitting<Mech> {
     double previous = std::numeric_limits<double>::infinity();
     for (int it = 0;; ++it) {
       const Mat3 g = F.transpose() * F - Mat3::Identity();
-      summary.residual = g.cwiseAbs().maxCoeff();
-      if (summary.residual <= options_.tolerance) break;
-      if (summary.residual >= previous && summary.residual <= options_.round_off_floor) break;
-      previous = summary.residual;
-      if (it == options_.max_iterations || !std::isfinite(summary.residual)) {
+      summary.solve_residual = g.cwiseAbs().maxCoeff();
+      if (summary.solve_residual <= options_.tolerance) break;
+      if (summary.solve_residual >= previous && summary.solve_residual <= options_.round_off_floor) break;
+      previous = summary.solve_residual;
+      if (it == options_.max_iterations || !std::isfinite(summary.solve_residual)) {
         summary.ok = false;
         summary.failure = "rattle: the multiplier's Newton iteration did not converge";
         return summary;

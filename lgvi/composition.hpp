@@ -95,7 +95,7 @@ class ComposedLgvi {
       const Control u1 = u(tau + hi);
       const RotationUpdateSummary r = base_.step(s, hi, u0, u1, s);
       total.iterations += r.iterations;
-      total.residual = std::max(total.residual, r.residual);
+      total.set_residual(std::max(total.residual(), r.residual()));
       total.rhs_norm = std::max(total.rhs_norm, r.rhs_norm);
       total.used_fallback = total.used_fallback || r.used_fallback;
       total.parametrization = r.parametrization;

@@ -18,7 +18,7 @@ concept StepReport = requires(const S& s) {
   { s.converged() } -> std::convertible_to<bool>;
   { s.iterations } -> std::convertible_to<int>;
   { s.used_fallback } -> std::convertible_to<bool>;
-  { s.residual } -> std::convertible_to<double>;
+  { s.residual() } -> std::convertible_to<double>;
 };
 
 /// The step summary of a one-step method that is not an LGVI: an explicit step is converged
@@ -28,8 +28,9 @@ struct StepSummary {
   bool ok = true;
   int iterations = 0;
   bool used_fallback = false;
-  double residual = 0.0;
+  double solve_residual = 0.0;  ///< the implicit solve's residual at return
   const char* failure = nullptr;
+  double residual() const { return solve_residual; }
 
   bool converged() const { return ok; }
 };

@@ -151,7 +151,7 @@ RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual&& resi
     const double scale = residual(std::as_const(iterate), G);
     const double g = G.norm();
     s.rhs_norm = scale;
-    s.residual = scale > 0.0 ? g / scale : g;
+    s.set_residual(scale > 0.0 ? g / scale : g);
     if (!std::isfinite(g)) break;
     if (g <= o.relative_tolerance * scale + o.absolute_tolerance) {
       // Polish: one more Newton step, kept if it lowers |G|. The tolerance test is relative to
@@ -169,7 +169,7 @@ RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual&& resi
         s.polished = true;
         if (G2.norm() < g) {
           iterate = polished;
-          s.residual = scale > 0.0 ? G2.norm() / scale : G2.norm();
+          s.set_residual(scale > 0.0 ? G2.norm() / scale : G2.norm());
         }
       }
       s.status = RotationUpdateStatus::Converged;

@@ -143,7 +143,7 @@ Stats integrate(const Integrator& lgvi, typename Integrator::State& state, doubl
     }
     stats.max_newton_iterations = std::max(stats.max_newton_iterations, s.iterations);
     stats.fallbacks += s.used_fallback ? 1 : 0;
-    stats.max_rotation_residual = std::max(stats.max_rotation_residual, s.residual);
+    stats.max_rotation_residual = std::max(stats.max_rotation_residual, s.residual());
     if (!observer(k + 1, t1, std::as_const(state), s)) stats.status = IntegrationStatus::ObserverStopped;
     u_k = u_k1;
   }

@@ -115,17 +115,20 @@ class AttitudeLgvi {
   /// converged; `out` may alias `in`.
   LGVI_FLATTEN RotationUpdateSummary step(const State& in, double h, const Control& u_k,
                                           const Control& u_k1, State& out) const {
+    namespace d = plain;  // the state read and written by scalars (lgvi/plain3.hpp)
     const auto [c0, c1] = impulse_weights(form_, h);
-    Vec3 kick = in.Pi;
-    if (c0 != 0.0) kick += c0 * (in.M + system_.control_moment(in.R, u_k));
-    Mat3 F;
-    const RotationUpdateSummary summary = solver_.solve(h * kick, F);
+    d::V3 kick = d::v3(in.Pi);
+    if (c0 != 0.0) kick = kick + c0 * (d::v3(in.M) + d::v3(system_.control_moment(in.R, u_k)));
+    RotationStep F;
+    const RotationUpdateSummary summary = solver_.solve(d::vec3(h * kick), F);
     if (!summary.converged()) return summary;
-    const Mat3 R1 = in.R * F;
-    const Vec3 M1 = system_.moment(R1);
-    out.Pi = F.transpose() * kick + c1 * (M1 + system_.control_moment(R1, u_k1));
+    const Mat3 R1 = F.right_multiply(in.R);
+    const d::V3 M1 = d::v3(system_.moment(R1));
+    const d::V3 Pi1 = d::v3(F.transpose_times(d::vec3(kick))) +
+                      c1 * (M1 + d::v3(system_.control_moment(R1, u_k1)));
     out.R = R1;
-    out.M = M1;
+    out.Pi = d::vec3(Pi1);
+    out.M = d::vec3(M1);
     return summary;
   }
 
@@ -165,13 +168,13 @@ class DumbbellLgvi {
       kick += c0 * (in.forces.moment + u_k.moment);
       p += c0 * (in.forces.force + u_k.force);
     }
-    Mat3 F;
+    RotationStep F;
     const RotationUpdateSummary summary = solver_.solve(h * kick, F);
     if (!summary.converged()) return summary;
-    const Mat3 R1 = in.R * F;
+    const Mat3 R1 = F.right_multiply(in.R);
     const Vec3 x1 = in.x + (h / m) * p;
     const DumbbellSpacecraft::Forces f1 = system_.forces(R1, x1);
-    out.Pi = F.transpose() * kick + c1 * (f1.moment + u_k1.moment);
+    out.Pi = F.transpose_times(kick) + c1 * (f1.moment + u_k1.moment);
     out.v = (p + c1 * (f1.force + u_k1.force)) / m;
     out.R = R1;
     out.x = x1;

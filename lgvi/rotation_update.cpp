@@ -39,7 +39,7 @@ std::string RotationUpdateSummary::brief() const {
   }
   std::snprintf(buf, sizeof buf, "%s in %d Newton iterations (%s%s), residual %.3g, |h p| = %.6g",
                 to_string(status), iterations, to_string(parametrization),
-                used_fallback ? ", after fallback" : "", residual, rhs_norm);
+                used_fallback ? ", after fallback" : "", residual(), rhs_norm);
   return buf;
 }
 
@@ -69,26 +69,61 @@ Vec3 RotationUpdateSolver::matrix_residual(const Mat3& F, const Vec3& hp) const 
   return so3::vee(F * Jd - Jd * F.transpose()) - hp;
 }
 
-RotationUpdateSummary RotationUpdateSolver::outside_domain(double rhs_norm) const {
+RotationUpdateSummary RotationUpdateSolver::outside_domain(const Vec3& hp, double rhs_norm) const {
   RotationUpdateSummary s;
   s.status = RotationUpdateStatus::OutsideDomain;
   s.parametrization = options_.primary;
   s.rhs_norm = rhs_norm;
-  s.residual = std::numeric_limits<double>::quiet_NaN();
+  s.set_residual(std::numeric_limits<double>::quiet_NaN());
+  diagnose(hp, s);
   return s;
 }
 
-RotationUpdateSummary RotationUpdateSolver::solve_with_fallback(const Vec3& hp,
-                                                                const RotationUpdateSummary& primary,
-                                                                Mat3& F) const {
-  const Parametrization other = options_.primary == Parametrization::Cayley
-                                    ? Parametrization::Exponential
-                                    : Parametrization::Cayley;
-  Vec3 f;
-  RotationUpdateSummary s = solve_in(other, hp, f);
-  s.iterations += primary.iterations;
-  s.used_fallback = true;
-  if (s.converged()) F = rotation_from(s.parametrization, f);
+RotationUpdateSummary RotationUpdateSolver::newton_in(Parametrization p, const Vec3& hp,
+                                                      double rhs_norm, RotationStep& step) const {
+  namespace d = rotation_update_detail;
+  const d::V3 b = d::v3(hp);
+  RotationUpdateSummary s =
+      p == Parametrization::Cayley
+          ? d::newton<d::CayleyChart>(inertia_, J_norm_, options_, hp, rhs_norm,
+                                      d::CayleyChart::warm_start(inertia_, b), 0, step)
+          : d::newton<d::ExponentialChart>(inertia_, J_norm_, options_, hp, rhs_norm,
+                                           d::ExponentialChart::warm_start(inertia_, b), 0, step);
+  s.parametrization = p;
+  if (s.converged()) step.chart = p;
+  return s;
+}
+
+RotationUpdateSummary RotationUpdateSolver::slow_path(const Vec3& hp, double rhs_norm,
+                                                      const rotation_update_detail::FastNewton& at,
+                                                      RotationStep& step) const {
+  namespace d = rotation_update_detail;
+  const Parametrization primary = options_.primary;
+  RotationUpdateSummary s =
+      primary == Parametrization::Cayley
+          ? d::newton<d::CayleyChart>(inertia_, J_norm_, options_, hp, rhs_norm, at.f, at.iterations, step)
+          : d::newton<d::ExponentialChart>(inertia_, J_norm_, options_, hp, rhs_norm, at.f,
+                                           at.iterations, step);
+  s.parametrization = primary;
+  if (s.converged()) {
+    step.chart = primary;
+    return s;
+  }
+  if (options_.fallback) {
+    // The other chart from its own warm start, its iterations counted on top.
+    const Parametrization other =
+        primary == Parametrization::Cayley ? Parametrization::Exponential : Parametrization::Cayley;
+    RotationStep candidate;
+    const int primary_iterations = s.iterations;
+    s = newton_in(other, hp, rhs_norm, candidate);
+    s.iterations += primary_iterations;
+    s.used_fallback = true;
+    if (s.converged()) {
+      step = candidate;
+      return s;
+    }
+  }
+  diagnose(hp, s);
   return s;
 }
 

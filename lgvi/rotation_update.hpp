@@ -28,16 +28,21 @@
 // first bound. Such a failure is reported as OutsideDomain with that ratio (axis_ratio), from
 // which the largest admissible step follows (h / axis_ratio).
 //
-// Cost: the primary chart's Newton iteration is inline here and the steps that call it
-// are flattened (LGVI_FLATTEN), so an LGVI step compiles into one function. The Newton matrix is
-// written column by column from cross products (no generic 3x3 product) and formed only when a
-// Newton step is taken (not at the converged evaluation); its 3x3 system is solved in closed form
-// (adjugate), with a pivoted LU when nearly singular. The iteration runs on plain doubles and tests
-// convergence on |H|^2 (no division or square root of G per iteration). The exponential chart
-// takes one sin/cos pair of the half angle per evaluation, and F reuses the last one. All this
-// changes the Newton steps by round-off only: the converged f is that of the previous, generic
-// implementation (kept in tests/lgvi/reference_rotation_update.hpp) to round-off, with the same
-// iteration counts except where |G| lands within round-off of the tolerance.
+// Cost: solve() is a fast path inline, and everything else out of line (slow_path). The fast
+// path is the primary chart's Newton iteration from its warm start with nothing else in the loop:
+// the Newton matrix written column by column from cross products and solved in closed form
+// (adjugate), the iteration on plain doubles (lgvi/plain3.hpp), convergence tested on |H|^2 (no
+// division or square root of G per iteration), the summary's residual stored as |H|^2 and
+// evaluated only when read. It stops at the first thing it does not handle: a nearly singular
+// Newton matrix, a non-finite value, the iteration cap, or a converged |G| that wants the
+// polishing step; slow_path() then continues newton() from that very iterate (pivoted LU,
+// polishing, failure summary), then the fallback chart, then the diagnosis, so a solve gives the
+// iterates and iteration counts of newton() alone. The steps that call it are flattened
+// (LGVI_FLATTEN) and apply F without forming it (RotationStep). The exponential chart takes one
+// sin/cos pair of the half angle per evaluation, and F reuses the last one. All this changes the
+// Newton steps by round-off only: the converged f is that of the previous, generic implementation
+// (kept in tests/lgvi/reference_rotation_update.hpp) to round-off, with the same iteration counts
+// except where |G| lands within round-off of the tolerance.
 #pragma once
 
 #include <cmath>
@@ -45,6 +50,7 @@
 #include <string>
 
 #include "lgvi/inertia.hpp"
+#include "lgvi/plain3.hpp"
 #include "lgvi/so3.hpp"
 #include "lgvi/types.hpp"
 
@@ -88,7 +94,6 @@ struct RotationUpdateSummary {
   int iterations = 0;          ///< Newton iterations over all attempts
   bool used_fallback = false;
   bool polished = false;       ///< the last of `iterations` was the optional polishing step
-  double residual = 0.0;       ///< |G(f)| / |h p| at return (absolute when h p = 0)
   double rhs_norm = 0.0;       ///< |h p|
   /// Set on failure only: max_i |(h p)_i| / J_i over the principal axes (above); > 1 means no
   /// rotation solves the update, and the step must shrink by at least this factor.
@@ -96,9 +101,54 @@ struct RotationUpdateSummary {
   int axis = -1;               ///< the principal axis (0, 1, 2 by increasing J_i) of axis_ratio
 
   bool converged() const { return status == RotationUpdateStatus::Converged; }
+  /// |G(f)| / |h p| at return (absolute when h p = 0; NaN outside the domain).
+  double residual() const {
+    return h_per_g_ > 0.0 ? std::sqrt(h2_) / h_per_g_ / scale_ : h2_;
+  }
+  /// residual() = r.
+  void set_residual(double r) {
+    h2_ = r;
+    h_per_g_ = 0.0;
+  }
+  /// residual() = sqrt(h2) / h_per_g / scale, |H|^2 = h2 and |H| = h_per_g |G| (a chart's
+  /// evaluation), scale = |h p| (1 when h p = 0), evaluated only when read: a square root and
+  /// two divisions at the end of the Newton iteration, which the step would otherwise wait on
+  /// (10 of a free-body step's ~100 ns, measured).
+  void set_residual(double h2, double h_per_g, double scale) {
+    h2_ = h2;
+    h_per_g_ = h_per_g;
+    scale_ = scale;
+  }
   /// One line: "converged in 3 Newton iterations (cayley), residual 1.2e-16".
   std::string brief() const;
+
+ private:
+  double h2_ = 0.0;       ///< |H|^2, or residual() itself when h_per_g_ == 0
+  double h_per_g_ = 0.0;
+  double scale_ = 1.0;
 };
+
+/// The solution F = I + a hat(f) + b hat(f)^2 of the rotation update as its parameter f and the
+/// chart's coefficients (Cayley: a = b = 2 / (1 + |f|^2); exponential: a = sin|f| / |f|,
+/// b = (1 - cos|f|) / |f|^2), applied without forming F. Row i of R F is
+/// r_i + a m_i + b m_i x f with m_i = r_i x f (r^T hat(f) = (r x f)^T), and
+/// F^T k = k - a f x k + b f x (f x k) (hat(f)^T = -hat(f), hat(f)^2 symmetric): on plain
+/// doubles, no 3x3 temporary and no generic product. Both agree with the products by
+/// rotation_from(chart, f) to a few ulp; matrix() is rotation_from(chart, f) to the last bit.
+struct RotationStep {
+  Parametrization chart = Parametrization::Cayley;
+  Vec3 f = Vec3::Zero();
+  double a = 0.0;
+  double b = 0.0;
+
+  Mat3 matrix() const;                         ///< F
+  Mat3 right_multiply(const Mat3& R) const;    ///< R F
+  Vec3 transpose_times(const Vec3& k) const;   ///< F^T k
+};
+
+namespace rotation_update_detail {
+struct FastNewton;
+}  // namespace rotation_update_detail
 
 /// Solves h hat(p) = F J_d - J_d F^T for F. Immutable after construction; `solve` allocates
 /// nothing and may be called concurrently.
@@ -109,6 +159,9 @@ class RotationUpdateSolver {
   /// Finds F for the right-hand side hp = h p. On success F is orthonormal to round-off; on
   /// failure F is left unchanged and the summary says why.
   RotationUpdateSummary solve(const Vec3& hp, Mat3& F) const;
+  /// The same solution as its parameter (F = step.matrix()), for steps that apply F without
+  /// forming it. On failure `step` is left unchanged.
+  RotationUpdateSummary solve(const Vec3& hp, RotationStep& step) const;
 
   /// Solves in one given parametrization, without fallback; f is the converged parameter.
   RotationUpdateSummary solve_in(Parametrization p, const Vec3& hp, Vec3& f) const;
@@ -127,11 +180,16 @@ class RotationUpdateSolver {
   const RotationUpdateOptions& options() const { return options_; }
 
  private:
-  /// The summary of a right-hand side outside the domain (or not finite).
-  RotationUpdateSummary outside_domain(double rhs_norm) const;
-  /// After the primary chart failed with summary `primary`: the other chart, counted on top.
-  RotationUpdateSummary solve_with_fallback(const Vec3& hp, const RotationUpdateSummary& primary,
-                                            Mat3& F) const;
+  /// The summary of a right-hand side outside the domain (or not finite), diagnosed.
+  RotationUpdateSummary outside_domain(const Vec3& hp, double rhs_norm) const;
+  /// Newton in chart p from its warm start (rotation_update_detail::newton).
+  RotationUpdateSummary newton_in(Parametrization p, const Vec3& hp, double rhs_norm,
+                                  RotationStep& step) const;
+  /// solve() after the fast path stopped at `at` without converging: newton() continued from
+  /// there in the primary chart, then the other chart (options.fallback), then diagnose().
+  RotationUpdateSummary slow_path(const Vec3& hp, double rhs_norm,
+                                  const rotation_update_detail::FastNewton& at,
+                                  RotationStep& step) const;
 
   Inertia inertia_;
   RotationUpdateOptions options_;
@@ -149,31 +207,8 @@ Mat3 rotation_from(Parametrization p, const Vec3& f);
 
 namespace rotation_update_detail {
 
-
-// Plain 3-vectors and 3x3 matrices (by columns) for the Newton iteration. GCC compiles Eigen's
-// 3-vector expressions into 2-wide packets mixed with scalars, stored and reloaded in halves;
-// on plain doubles the same free-body step ran 23% faster (177 -> 137 ns) with 3% fewer
-// instructions (callgrind: 1232 -> 1192 per step).
-struct V3 {
-  double x, y, z;
-};
-inline V3 v3(const Vec3& a) { return {a(0), a(1), a(2)}; }
-inline Vec3 vec3(const V3& a) { return Vec3(a.x, a.y, a.z); }
-inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline V3 operator*(double c, const V3& a) { return {c * a.x, c * a.y, c * a.z}; }
-inline double dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline V3 cross(const V3& a, const V3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-inline bool all_finite(const V3& a) {
-  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
-}
-struct M3 {
-  V3 c0, c1, c2;  ///< columns
-};
-inline M3 m3(const Mat3& A) { return {v3(A.col(0)), v3(A.col(1)), v3(A.col(2))}; }
-inline V3 operator*(const M3& A, const V3& x) { return x.x * A.c0 + x.y * A.c1 + x.z * A.c2; }
+// The Newton iteration runs on plain doubles (lgvi/plain3.hpp).
+using namespace plain;
 
 /// Solves A x = b for A = [c0 c1 c2] (columns) by the adjugate (Cramer's rule):
 /// x_i = b . (c_{i+1} x c_{i+2}) / det A, det A = c0 . (c1 x c2). Returns false, leaving x
@@ -213,11 +248,12 @@ inline Vec3 solve3(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& b
   return vec3(solve3(M3{v3(c0), v3(c1), v3(c2)}, v3(b)));
 }
 
-// A chart provides the Newton function H (a multiple of G with the same roots), its Newton step
-// dH^{-1} H, and, for the convergence test without a division or square root per iteration,
-// h_per_g = |H| / |G| and size_h = h_per_g size, where size = a |f| + b |f|^2 =
-// sin(theta) + 1 - cos(theta) in both charts (the terms a J f and b f x J f of G are at most
-// ||J|| size in norm: the round-off floor of G, see newton).
+// A chart provides the Newton function H (a multiple of G with the same roots), its Newton
+// matrix dH, the coefficients a, b of F at the evaluated f, and, for the convergence test
+// without a division or square root per iteration, h_per_g = |H| / |G| and size_h =
+// h_per_g size, where size = a |f| + b |f|^2 = sin(theta) + 1 - cos(theta) in both charts (the
+// terms a J f and b f x J f of G are at most ||J|| size in norm: the round-off floor of G, see
+// newton).
 
 /// Cayley chart: H = (1 + |f|^2)/2 G = J f + f x J f - (1 + |f|^2) h p / 2 (polynomial), with
 ///   dH = J + hat(f) J - hat(J f) - h p f^T,
@@ -228,8 +264,8 @@ struct CayleyChart {
     double h_per_g, size_h;
   };
   static V3 warm_start(const Inertia& I, const V3& hp) { return 0.5 * (m3(I.J_inverse) * hp); }
-  /// F = cay(f) (so3::cayley).
-  static Mat3 rotation(const V3& f, const Evaluation& /*e*/) { return so3::cayley(vec3(f)); }
+  /// a = b = 2 / (1 + |f|^2) of F = I + a hat(f) + b hat(f)^2 at the evaluated f.
+  static void coefficients(const Evaluation& e, double& a, double& b) { a = b = 1.0 / e.h_per_g; }
   static void evaluate(const M3& J, const V3& hp, const V3& f, Evaluation& e) {
     e.Jf = J * f;
     const double f2 = dot(f, f);
@@ -237,12 +273,11 @@ struct CayleyChart {
     e.H = e.Jf + cross(f, e.Jf) - e.h_per_g * hp;
     e.size_h = std::sqrt(f2) + f2;
   }
-  static V3 newton_step(const M3& J, const V3& hp, const V3& f, const Evaluation& e) {
+  static M3 newton_matrix(const M3& J, const V3& hp, const V3& f, const Evaluation& e) {
     const V3& w = e.Jf;
-    const M3 dH{J.c0 + cross(f, J.c0) + V3{0.0, -w.z, w.y} - f.x * hp,
-                J.c1 + cross(f, J.c1) + V3{w.z, 0.0, -w.x} - f.y * hp,
-                J.c2 + cross(f, J.c2) + V3{-w.y, w.x, 0.0} - f.z * hp};
-    return solve3(dH, e.H);
+    return {J.c0 + cross(f, J.c0) + V3{0.0, -w.z, w.y} - f.x * hp,
+            J.c1 + cross(f, J.c1) + V3{w.z, 0.0, -w.x} - f.y * hp,
+            J.c2 + cross(f, J.c2) + V3{-w.y, w.x, 0.0} - f.z * hp};
   }
 };
 
@@ -263,9 +298,12 @@ struct ExponentialChart {
   static so3::RodriguesCoefficients rodrigues(double t) {
     return t < 1e-4 ? so3::rodrigues(t) : so3::rodrigues_half_angle(t);
   }
-  /// F = exp(hat f) = I + a hat(f) + b hat(f)^2 with the coefficients of the evaluation at f
-  /// (those rotation_from recomputes).
-  static Mat3 rotation(const V3& f, const Evaluation& e) { return rotation(f, e.a, e.b); }
+  /// The coefficients of the evaluation at f (those rotation_from recomputes).
+  static void coefficients(const Evaluation& e, double& a, double& b) {
+    a = e.a;
+    b = e.b;
+  }
+  /// F = exp(hat f) = I + a hat(f) + b hat(f)^2.
   static Mat3 rotation(const V3& f, double a, double b) {
     const Vec3 w = vec3(f);
     return Mat3::Identity() + a * so3::hat(w) + b * so3::hat_squared(w);
@@ -282,7 +320,7 @@ struct ExponentialChart {
     e.h_per_g = 1.0;
     e.size_h = a * e.t + b * e.t * e.t;
   }
-  static V3 newton_step(const M3& J, const V3& /*hp*/, const V3& f, const Evaluation& e) {
+  static M3 newton_matrix(const M3& J, const V3& /*hp*/, const V3& f, const Evaluation& e) {
     // a'/t and b'/t. With cos t = 1 - b t^2: a'/t = (t cos t - sin t)/t^3 = (1 - b t^2 - a)/t^2,
     // b'/t = (t sin t - 2(1 - cos t))/t^4 = (a - 2 b)/t^2. Both cancel to ~eps/t^2 relative, so
     // the Taylor branch below t = 1e-2 (truncation t^6/45360 < 1e-16; cancellation <= 1e-12
@@ -298,30 +336,47 @@ struct ExponentialChart {
     }
     const V3& w = e.Jf;
     const V3 r = da_t * w + db_t * e.fxJf;
-    const M3 dG{e.a * J.c0 + e.b * (cross(f, J.c0) + V3{0.0, -w.z, w.y}) + f.x * r,
-                e.a * J.c1 + e.b * (cross(f, J.c1) + V3{w.z, 0.0, -w.x}) + f.y * r,
-                e.a * J.c2 + e.b * (cross(f, J.c2) + V3{-w.y, w.x, 0.0}) + f.z * r};
-    return solve3(dG, e.H);
+    return {e.a * J.c0 + e.b * (cross(f, J.c0) + V3{0.0, -w.z, w.y}) + f.x * r,
+            e.a * J.c1 + e.b * (cross(f, J.c1) + V3{w.z, 0.0, -w.x}) + f.y * r,
+            e.a * J.c2 + e.b * (cross(f, J.c2) + V3{-w.y, w.x, 0.0}) + f.z * r};
   }
 };
 
-/// Newton's method in one chart from its warm start. On convergence only, f_out is the
-/// parameter and, when F_out is given, *F_out the rotation (from the last evaluation's
-/// coefficients).
+/// The convergence test's bound on |H| (see newton): |G| <= relative_tolerance (|h p| +
+/// ||J|| size) + absolute_tolerance, multiplied by h_per_g.
+template <class Evaluation>
+inline double converged_bound(const RotationUpdateOptions& o, double rhs_norm, double J_norm,
+                              const Evaluation& e) {
+  return e.h_per_g * (o.relative_tolerance * rhs_norm + o.absolute_tolerance) +
+         o.relative_tolerance * J_norm * e.size_h;
+}
+
+/// Polishing wanted after convergence: |G| still above 4 eps |h p| (see newton).
+template <class Evaluation>
+inline bool wants_polish(const RotationUpdateOptions& o, double rhs_norm, double h2,
+                         const Evaluation& e) {
+  const double polish_threshold = 4.0 * kEps * rhs_norm * e.h_per_g;
+  return o.polish && h2 > polish_threshold * polish_threshold;
+}
+
+/// Newton's method in one chart, from the iterate f after `iterations` iterations (the warm
+/// start and 0 for a fresh solve). On convergence only, `out` holds the parameter and the
+/// coefficients of F (from the last evaluation). The whole method: the Newton systems by
+/// solve3 (pivoted LU when nearly singular), the polishing step, the failure summaries.
 template <class Chart>
 inline RotationUpdateSummary newton(const Inertia& I, double J_norm, const RotationUpdateOptions& o,
-                                    const Vec3& hp_in, double rhs_norm, Vec3& f_out,
-                                    Mat3* F_out = nullptr) {
+                                    const Vec3& hp_in, double rhs_norm, V3 f, int iterations,
+                                    RotationStep& out) {
   RotationUpdateSummary s;
   s.rhs_norm = rhs_norm;
+  s.iterations = iterations;
   const double scale = rhs_norm > 0.0 ? rhs_norm : 1.0;
   const M3 J = m3(I.J);
   const V3 hp = v3(hp_in);
   // |G| = |H| / h_per_g, reported relative to |h p| (absolute when h p = 0).
-  const auto residual = [scale](const typename Chart::Evaluation& e) {
-    return std::sqrt(dot(e.H, e.H)) / e.h_per_g / scale;
+  const auto set_residual = [scale, &s](const typename Chart::Evaluation& e) {
+    s.set_residual(dot(e.H, e.H), e.h_per_g, scale);
   };
-  V3 f = Chart::warm_start(I, hp);
   typename Chart::Evaluation e;
   for (;;) {
     Chart::evaluate(J, hp, f, e);
@@ -335,42 +390,85 @@ inline RotationUpdateSummary newton(const Inertia& I, double J_norm, const Rotat
     // a solved problem (e.g. a dumbbell with rho along (1,1,1), ~1e-4 of random momenta).
     // |G| <= relative_tolerance (|h p| + ||J|| size) + absolute_tolerance, multiplied by h_per_g
     // and squared:
-    const double tol_h = e.h_per_g * (o.relative_tolerance * rhs_norm + o.absolute_tolerance) +
-                         o.relative_tolerance * J_norm * e.size_h;
+    const double tol_h = converged_bound(o, rhs_norm, J_norm, e);
     if (h2 <= tol_h * tol_h) {
       // Polish: one more Newton step when |G| is still above 4 eps |h p| (the floor for a
       // well-conditioned J); kept only if it lowers |G|. Ill-conditioned J and h p near a weak
       // axis leave |G| / |h p| at ~1e-14 after the test above; one step usually halves it.
-      const double polish_threshold = 4.0 * kEps * rhs_norm * e.h_per_g;
-      s.residual = residual(e);
-      if (o.polish && h2 > polish_threshold * polish_threshold &&
-          s.iterations < o.max_iterations) {
-        const V3 polished = f - Chart::newton_step(J, hp, f, e);
+      set_residual(e);
+      if (wants_polish(o, rhs_norm, h2, e) && s.iterations < o.max_iterations) {
+        const V3 polished = f - solve3(Chart::newton_matrix(J, hp, f, e), e.H);
         typename Chart::Evaluation e2;
         Chart::evaluate(J, hp, polished, e2);
         ++s.iterations;
         s.polished = true;
-        const double g2 = residual(e2);
-        if (g2 < s.residual) {
+        RotationUpdateSummary p;
+        p.set_residual(dot(e2.H, e2.H), e2.h_per_g, scale);
+        if (p.residual() < s.residual()) {
           f = polished;
           e = e2;
-          s.residual = g2;
+          set_residual(e);
         }
       }
       s.status = RotationUpdateStatus::Converged;
-      f_out = vec3(f);
-      if (F_out) *F_out = Chart::rotation(f, e);
+      out.f = vec3(f);
+      Chart::coefficients(e, out.a, out.b);
       return s;
     }
     if (s.iterations >= o.max_iterations) break;
-    const V3 step = Chart::newton_step(J, hp, f, e);
+    const V3 step = solve3(Chart::newton_matrix(J, hp, f, e), e.H);
     if (!all_finite(step)) break;
     f = f - step;
     ++s.iterations;
   }
-  s.residual = residual(e);
+  set_residual(e);
   s.status = RotationUpdateStatus::NotConverged;
   return s;
+}
+
+/// Where newton_fast stopped: the iterate and the iterations taken to reach it.
+struct FastNewton {
+  V3 f;
+  int iterations;
+};
+
+/// The common case of newton() from the warm start, as the LGVI steps meet it: every Newton
+/// matrix well conditioned (solve_adjugate's guard passes), every value finite, convergence
+/// within the cap, no polishing wanted. The same iterates, test and summary as newton(), with
+/// nothing else in the loop: no pivoted solve, no polishing step, no failure summary. Returns
+/// true on convergence (summary and `out` written); otherwise false with the iterate where it
+/// stopped in `at`, from which newton() continues (the slow path) to the result newton() alone
+/// would have given, iteration counts included.
+template <class Chart>
+inline bool newton_fast(const Inertia& I, double J_norm, const RotationUpdateOptions& o,
+                        const V3& hp, double rhs_norm, RotationStep& out,
+                        RotationUpdateSummary& s, FastNewton& at) {
+  const M3 J = m3(I.J);
+  V3 f = Chart::warm_start(I, hp);
+  typename Chart::Evaluation e;
+  int iterations = 0;
+  for (;;) {
+    Chart::evaluate(J, hp, f, e);
+    const double h2 = dot(e.H, e.H);
+    const double tol_h = converged_bound(o, rhs_norm, J_norm, e);
+    if (h2 <= tol_h * tol_h) {
+      if (wants_polish(o, rhs_norm, h2, e)) break;
+      s.status = RotationUpdateStatus::Converged;
+      s.iterations = iterations;
+      s.rhs_norm = rhs_norm;
+      s.set_residual(h2, e.h_per_g, rhs_norm > 0.0 ? rhs_norm : 1.0);
+      out.f = vec3(f);
+      Chart::coefficients(e, out.a, out.b);
+      return true;
+    }
+    if (iterations >= o.max_iterations || !std::isfinite(h2)) break;
+    V3 step;
+    if (!solve_adjugate(Chart::newton_matrix(J, hp, f, e), e.H, step) || !all_finite(step)) break;
+    f = f - step;
+    ++iterations;
+  }
+  at = {f, iterations};
+  return false;
 }
 
 }  // namespace rotation_update_detail
@@ -383,35 +481,71 @@ inline Mat3 rotation_from(Parametrization p, const Vec3& f) {
   return d::ExponentialChart::rotation(v, a, b);
 }
 
-LGVI_FLATTEN inline RotationUpdateSummary RotationUpdateSolver::solve_in(Parametrization p, const Vec3& hp,
-                                                            Vec3& f) const {
+inline Mat3 RotationStep::matrix() const {
+  namespace d = rotation_update_detail;
+  return chart == Parametrization::Cayley ? so3::cayley(f)
+                                          : d::ExponentialChart::rotation(d::v3(f), a, b);
+}
+
+inline Mat3 RotationStep::right_multiply(const Mat3& R) const {
+  namespace d = rotation_update_detail;
+  const d::V3 w = d::v3(f);
+  Mat3 out;
+  for (int i = 0; i < 3; ++i) {
+    const d::V3 r{R(i, 0), R(i, 1), R(i, 2)};
+    const d::V3 m = d::cross(r, w);
+    const d::V3 row = r + a * m + b * d::cross(m, w);
+    out(i, 0) = row.x;
+    out(i, 1) = row.y;
+    out(i, 2) = row.z;
+  }
+  return out;
+}
+
+inline Vec3 RotationStep::transpose_times(const Vec3& k_in) const {
+  namespace d = rotation_update_detail;
+  const d::V3 w = d::v3(f), k = d::v3(k_in);
+  const d::V3 fxk = d::cross(w, k);
+  return d::vec3(k - a * fxk + b * d::cross(w, fxk));
+}
+
+inline RotationUpdateSummary RotationUpdateSolver::solve_in(Parametrization p, const Vec3& hp,
+                                                           Vec3& f) const {
   namespace d = rotation_update_detail;
   const double rhs_norm = hp.norm();
-  RotationUpdateSummary s =
-      p == Parametrization::Cayley
-          ? d::newton<d::CayleyChart>(inertia_, J_norm_, options_, hp, rhs_norm, f)
-          : d::newton<d::ExponentialChart>(inertia_, J_norm_, options_, hp, rhs_norm, f);
-  s.parametrization = p;
+  RotationStep step;
+  RotationUpdateSummary s = newton_in(p, hp, rhs_norm, step);
+  if (s.converged()) f = step.f;
   return s;
+}
+
+// The fast path inline, everything else (newton() continued, the fallback chart, the diagnosis
+// of a failure) out of line in slow_path().
+LGVI_FLATTEN inline RotationUpdateSummary RotationUpdateSolver::solve(const Vec3& hp,
+                                                                   RotationStep& step) const {
+  namespace d = rotation_update_detail;
+  const d::V3 b = d::v3(hp);
+  const double rhs_norm = std::sqrt(d::dot(b, b));
+  if (!(rhs_norm <= domain_bound_)) [[unlikely]] return outside_domain(hp, rhs_norm);  // also NaN
+  RotationUpdateSummary s;
+  s.parametrization = options_.primary;
+  d::FastNewton at;
+  const bool converged =
+      options_.primary == Parametrization::Cayley
+          ? d::newton_fast<d::CayleyChart>(inertia_, J_norm_, options_, b, rhs_norm, step, s, at)
+          : d::newton_fast<d::ExponentialChart>(inertia_, J_norm_, options_, b, rhs_norm, step, s, at);
+  if (converged) [[likely]] {
+    step.chart = options_.primary;
+    return s;
+  }
+  return slow_path(hp, rhs_norm, at, step);
 }
 
 LGVI_FLATTEN inline RotationUpdateSummary RotationUpdateSolver::solve(const Vec3& hp,
                                                                    Mat3& F) const {
-  namespace d = rotation_update_detail;
-  const double rhs_norm = hp.norm();
-  if (!(rhs_norm <= domain_bound_)) [[unlikely]] {  // also catches NaN
-    RotationUpdateSummary out = outside_domain(rhs_norm);
-    diagnose(hp, out);
-    return out;
-  }
-  Vec3 f;
-  RotationUpdateSummary s =  // writes F on convergence only
-      options_.primary == Parametrization::Cayley
-          ? d::newton<d::CayleyChart>(inertia_, J_norm_, options_, hp, rhs_norm, f, &F)
-          : d::newton<d::ExponentialChart>(inertia_, J_norm_, options_, hp, rhs_norm, f, &F);
-  s.parametrization = options_.primary;
-  if (!s.converged() && options_.fallback) s = solve_with_fallback(hp, s, F);
-  if (!s.converged()) [[unlikely]] diagnose(hp, s);
+  RotationStep step;
+  const RotationUpdateSummary s = solve(hp, step);
+  if (s.converged()) F = step.matrix();
   return s;
 }
 

@@ -1,6 +1,6 @@
 // A yardstick of the step-cost benchmark: one classical fixed-step RK4 step of the rotation-
 // matrix model of an attitude system (free rigid body, 3D pendulum), written like
-// quaternion_rk4.hpp: plain doubles (plain3.hpp), every call inlined (LGVI_FLATTEN), no heap.
+// quaternion_rk4.hpp: plain doubles (lgvi/plain3.hpp), every call inlined (LGVI_FLATTEN), no heap.
 //
 //   R' = R hat(Omega),   Omega' = J^{-1} (J Omega x Omega + M(R))
 //
@@ -11,7 +11,7 @@
 
 #include "lgvi/lgvi.hpp"
 #include "lgvi/types.hpp"
-#include "plain3.hpp"
+#include "lgvi/plain3.hpp"
 
 namespace lgvi::benchmarks {
 

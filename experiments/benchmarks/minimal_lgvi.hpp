@@ -24,7 +24,7 @@
 
 #include "lgvi/lgvi.hpp"
 #include "lgvi/types.hpp"
-#include "plain3.hpp"
+#include "lgvi/plain3.hpp"
 
 namespace lgvi::benchmarks {
 

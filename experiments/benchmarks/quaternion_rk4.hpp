@@ -1,6 +1,6 @@
 // A yardstick of the step-cost benchmark: one classical fixed-step RK4 step of the quaternion
 // model of an attitude system (free rigid body, 3D pendulum), written for speed as a user would
-// write it: plain doubles in registers (plain3.hpp), every call inlined (LGVI_FLATTEN and
+// write it: plain doubles in registers (lgvi/plain3.hpp), every call inlined (LGVI_FLATTEN and
 // always_inline helpers, the flags of the LGVI step), no heap, no virtual calls, the physics
 // from lgvi/systems.
 //
@@ -17,7 +17,7 @@
 
 #include "lgvi/lgvi.hpp"
 #include "lgvi/types.hpp"
-#include "plain3.hpp"
+#include "lgvi/plain3.hpp"
 
 namespace lgvi::benchmarks {
 

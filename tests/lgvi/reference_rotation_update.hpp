@@ -87,7 +87,7 @@ inline RotationUpdateSummary newton(const Inertia& I, const RotationUpdateOption
   for (;;) {
     Model::evaluate(I.J, hp, f, G, H, dH, size);
     const double g = G.norm();
-    s.residual = g / scale;
+    s.set_residual(g / scale);
     if (!std::isfinite(g)) break;
     // Round-off floor of G: its terms a J f, b f x J f and h p are each formed to a few eps of
     // their size, and f itself is only representable to eps |f| (dG/df ~ a J), so |G| cannot be
@@ -111,7 +111,7 @@ inline RotationUpdateSummary newton(const Inertia& I, const RotationUpdateOption
         s.polished = true;
         if (G2.norm() < g) {
           f = polished;
-          s.residual = G2.norm() / scale;
+          s.set_residual(G2.norm() / scale);
         }
       }
       s.status = RotationUpdateStatus::Converged;
@@ -161,7 +161,7 @@ inline RotationUpdateSummary RotationUpdateSolver::solve(const Vec3& hp, Mat3& F
     s.status = RotationUpdateStatus::OutsideDomain;
     s.parametrization = options_.primary;
     s.rhs_norm = rhs_norm;
-    s.residual = std::numeric_limits<double>::quiet_NaN();
+    s.set_residual(std::numeric_limits<double>::quiet_NaN());
     return s;
   }
   Vec3 f;
@@ -255,7 +255,7 @@ inline RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual
     const double scale = residual(std::as_const(iterate), G, DG);
     const double g = G.norm();
     s.rhs_norm = scale;
-    s.residual = scale > 0.0 ? g / scale : g;
+    s.set_residual(scale > 0.0 ? g / scale : g);
     if (!std::isfinite(g)) break;
     if (g <= o.relative_tolerance * scale + o.absolute_tolerance) {
       // Polish: one more Newton step, kept if it lowers |G|. The tolerance test is relative to
@@ -272,7 +272,7 @@ inline RotationUpdateSummary solve_on_rotations(std::array<Mat3, N>& A, Residual
         s.polished = true;
         if (G2.norm() < g) {
           iterate = polished;
-          s.residual = scale > 0.0 ? G2.norm() / scale : G2.norm();
+          s.set_residual(scale > 0.0 ? G2.norm() / scale : G2.norm());
         }
       }
       s.status = RotationUpdateStatus::Converged;

@@ -105,7 +105,7 @@ TEST(FastRotationUpdate, AgreesWithTheReferenceSolver) {
         EXPECT_EQ(a.rhs_norm, b.rhs_norm);
         count_mismatches += a.iterations != b.iterations || a.polished != b.polished;
         const double h = hp.norm();
-        const double dG = (a.residual + b.residual) * h + 2.0 * roundoff(h + 3.0 * I.J.norm());
+        const double dG = (a.residual() + b.residual()) * h + 2.0 * roundoff(h + 3.0 * I.J.norm());
         const double tol = std::sqrt(2.0) * sensitivity(F_ref, I.Jd) * dG + 2.0 * roundoff(1.0, 8);
         const double diff = (F_fast - F_ref).norm();
         EXPECT_LE(diff, tol) << a.brief() << " vs " << b.brief();

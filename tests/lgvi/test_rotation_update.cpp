@@ -126,13 +126,13 @@ TEST_P(RandomBatch, ConvergesAndCountsIterations) {
     // The acceptance bound on the residual relative to |h p|. The convergence test alone
     // allows 16 eps (|h p| + ||J|| size), up to ~1e-14 for ill-conditioned J; the polishing step
     // brings it to the few-eps floor.
-    EXPECT_LE(r.residual, 1e-14) << r.brief();
+    EXPECT_LE(r.residual(), 1e-14) << r.brief();
     if (GetParam().max_h_omega <= 0.1) {
       EXPECT_LE(r.iterations, 5) << r.brief();
       EXPECT_FALSE(r.used_fallback) << r.brief();
     }
     max_iterations = std::max(max_iterations, r.iterations);
-    max_residual = std::max(max_residual, r.residual);
+    max_residual = std::max(max_residual, r.residual());
     fallbacks += r.used_fallback;
   }
   std::cout << "[ measured ] h|Omega| <= " << GetParam().max_h_omega << ": max Newton iterations "
@@ -157,15 +157,15 @@ TEST_P(RandomBatch, ResidualsAreAtRoundOff) {
     ASSERT_TRUE(r.converged()) << r.brief();
     const double h = s.hp.norm();
     if (h > 0.0) {
-      EXPECT_LE(r.residual, residual_contract(solver, s.hp, F)) << r.brief();
+      EXPECT_LE(r.residual(), residual_contract(solver, s.hp, F)) << r.brief();
     }
     const double Jd = s.inertia.Jd.norm(), J = s.inertia.J.norm();
     const double bound =
-        r.residual * h + (kMatTol + roundoff(1.0, 3)) * Jd + roundoff(h + J * term_size(F), 1);
+        r.residual() * h + (kMatTol + roundoff(1.0, 3)) * Jd + roundoff(h + J * term_size(F), 1);
     const double matrix_residual = solver.matrix_residual(F, s.hp).norm();
     EXPECT_LE(matrix_residual, bound)
         << r.brief() << " (bound relative to ||J_d|| " << bound / Jd << ")";
-    EXPECT_TRUE(std::isfinite(r.residual));
+    EXPECT_TRUE(std::isfinite(r.residual()));
     max_matrix_residual = std::max(max_matrix_residual, matrix_residual / Jd);
   }
   std::cout << "[ measured ] h|Omega| <= " << GetParam().max_h_omega
@@ -201,7 +201,7 @@ TEST_P(RandomBatch, CayleyAndExponentialAgree) {
     const Mat3 Fe = rotation_from(Parametrization::Exponential, fe);
     const double h = s.hp.norm();
     const double dG =
-        (rc.residual + re.residual) * h + 2.0 * roundoff(h + 3.0 * s.inertia.J.norm());
+        (rc.residual() + re.residual()) * h + 2.0 * roundoff(h + 3.0 * s.inertia.J.norm());
     const double tol = std::sqrt(2.0) * sensitivity(Fc, s.inertia.Jd) * dG + 2.0 * kMatTol;
     EXPECT_LE((Fc - Fe).norm(), tol) << "cayley: " << rc.brief() << "\nexponential: " << re.brief();
   }
@@ -242,7 +242,7 @@ TEST(RotationUpdate, NewtonSettlesWithinTheEvaluationFloor) {
       Mat3 F;
       ASSERT_TRUE(RotationUpdateSolver(I).solve(hp, F).converged());
       const double scale = hp.norm() + I.J.norm() * term_size(F);
-      const double floor_in_eps = r.residual * hp.norm() / (kEps * scale);
+      const double floor_in_eps = r.residual() * hp.norm() / (kEps * scale);
       EXPECT_LE(floor_in_eps, 8.0) << to_string(p) << " |Omega_h| = " << mag;
       worst[p == Parametrization::Exponential] =
           std::max(worst[p == Parametrization::Exponential], floor_in_eps);
@@ -264,7 +264,7 @@ TEST(RotationUpdate, ZeroMomentumGivesIdentityExactly) {
     const RotationUpdateSummary r = solver.solve(Vec3::Zero(), F);
     EXPECT_TRUE(r.converged()) << r.brief();
     EXPECT_EQ(r.iterations, 0);
-    EXPECT_EQ(r.residual, 0.0);
+    EXPECT_EQ(r.residual(), 0.0);
     EXPECT_FALSE(r.used_fallback);
     EXPECT_EQ(F, Mat3::Identity());
   }
@@ -368,8 +368,8 @@ TEST(RotationUpdateReachable, NoSolutionInsideBoundIsNamedOutsideTheDomain) {
       EXPECT_TRUE(r.used_fallback);
       EXPECT_GT(r.iterations, 0);
       EXPECT_LE(r.iterations, 2 * solver.options().max_iterations);
-      EXPECT_TRUE(std::isfinite(r.residual)) << r.brief();
-      EXPECT_GT(r.residual, 0.0) << r.brief();
+      EXPECT_TRUE(std::isfinite(r.residual())) << r.brief();
+      EXPECT_GT(r.residual(), 0.0) << r.brief();
       EXPECT_TRUE(std::isfinite(r.rhs_norm));
       EXPECT_NE(r.brief().find("no rotation solves the update"), std::string::npos) << r.brief();
       EXPECT_EQ(r.brief().find("nan"), std::string::npos) << r.brief();
@@ -399,7 +399,7 @@ TEST(RotationUpdateReachable, ConvergesUpToTheFold) {
                                  << r.brief();
       const double theta = std::asin(x);
       const double cos_theta = std::max(std::cos(theta), 1e-300);
-      const double dG = r.residual * hp.norm() + roundoff(hp.norm() + 2.0 * I.J.norm());
+      const double dG = r.residual() * hp.norm() + roundoff(hp.norm() + 2.0 * I.J.norm());
       const double angle_tol = (dG / Ji + 2.0 * kEps) / cos_theta + roundoff(M_PI, 4);
       const Vec3 w = so3::log(F);
       EXPECT_NEAR(w(i), theta, k == 13 ? std::sqrt(4.0 * dG / Ji) + roundoff(M_PI, 4) : angle_tol)
@@ -570,7 +570,7 @@ TEST(RotationUpdate, ConvergesForIllConditionedInertiaInGenericFrame) {
     Mat3 F;
     const RotationUpdateSummary r = solver.solve(hp, F);
     ASSERT_TRUE(r.converged()) << r.brief();
-    EXPECT_LE(r.residual, residual_contract(solver, hp, F));
+    EXPECT_LE(r.residual(), residual_contract(solver, hp, F));
     max_iterations = std::max(max_iterations, r.iterations);
   }
   std::cout << "[ measured ] ill-conditioned generic-frame inertia: max Newton iterations "
