@@ -675,6 +675,18 @@ inline void write8(char* p, std::uint32_t v) {
 /// The decimal digits of f > 0 ending at `end`; returns their start. In blocks of 8 from the
 /// right (a double's 17 digits: 8 + 8 + 1), then pairs.
 inline char* digits_before(char* end, u64 f) {
+  if (f >= 1000000000000000) {  // 16 or 17 digits, most of a run's numbers: no loop
+    const u64 high = f / 100000000;
+    write8(end - 8, static_cast<std::uint32_t>(f - high * 100000000));
+    if (high < 100000000) {
+      write8(end - 16, static_cast<std::uint32_t>(high));
+      return end - 16;
+    }
+    const u64 top = high / 100000000;
+    write8(end - 16, static_cast<std::uint32_t>(high - top * 100000000));
+    end[-17] = static_cast<char>('0' + top);
+    return end - 17;
+  }
   while (f >= 100000000) {
     const u64 high = f / 100000000;
     end -= 8;
