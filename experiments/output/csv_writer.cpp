@@ -172,10 +172,7 @@ void CsvWriter::write_row(std::span<const double> values) {
   char* const begin = rows_buffer_.get();
   char* p = begin + pending_;
   if (longest <= kRowBufferSize) {
-    for (const double x : values) {
-      p = write_shortest(p, x);
-      *p++ = ',';
-    }
+    p = write_csv_numbers(p, values);
   } else {  // a row wider than the buffer (over 2,500 columns): handed on in parts
     for (const double x : values) {
       if (static_cast<std::size_t>(begin + kRowBufferSize - p) < kShortestRoom + 1) {
@@ -186,11 +183,7 @@ void CsvWriter::write_row(std::span<const double> values) {
       p = write_shortest(p, x);
       *p++ = ',';
     }
-  }
-  if (values.empty()) {
-    *p++ = '\n';
-  } else {
-    p[-1] = '\n';  // the last separator
+    p[-1] = '\n';  // the last separator (the row has numbers: it is wide)
   }
   pending_ = static_cast<std::size_t>(p - begin);
   ++rows_;

@@ -10,10 +10,11 @@ namespace lgvi::experiments {
 namespace {
 
 using u64 = std::uint64_t;
-using u128 = unsigned __int128;
+__extension__ typedef unsigned __int128 u128;  // a GCC and Clang extension (-Wpedantic)
 
 /// g(k) = floor(10^-k 2^(125 - floor(log2 10^-k))) + 1 (2^125 < g <= 2^126) as {g >> 63,
-/// g mod 2^63}, k = -324 .. 292 (Schubfach, section 10), computed with exact rational arithmetic.
+/// g mod 2^63}, k = -324 .. 292 (Schubfach, section 10), computed in exact rational arithmetic
+/// (Python's fractions.Fraction; the first entry, k = -324, is the paper's too).
 struct Power {
   u64 hi, lo;
 };
@@ -640,7 +641,8 @@ constexpr Power kPowers[] = {
 
 // floor(q log10 2), floor(log10(3/4 2^q)) and floor(e log2 10) by multiply and shift (the
 // constants of Dragonbox, J. Jeon 2020), checked against exact values for q in [-1100, 1000]
-// and e in [-330, 330] when the table was generated.
+// and e in [-330, 330] when the table was generated; test_shortest.cpp runs every q of a
+// normal double through both branches (each power of 2 and its neighbours).
 constexpr int floor_log10_pow2(int q) { return (q * 78913) >> 18; }
 constexpr int floor_log10_three_quarters_pow2(int q) { return (q * 631305 - 261663) >> 21; }
 constexpr int floor_log2_pow10(int e) { return (e * 1741647) >> 19; }
@@ -708,9 +710,8 @@ inline char* digits_before(char* end, u64 f) {
   return end;
 }
 
-}  // namespace
-
-char* write_shortest(char* first, double x) {
+/// write_shortest's body, inlined into the row loop of write_csv_numbers.
+[[gnu::always_inline]] inline char* shortest_text(char* first, double x) {
   const u64 bits = std::bit_cast<u64>(x);
   const int biased = static_cast<int>((bits >> 52) & 0x7ff);
   const u64 fraction = bits & ((u64{1} << 52) - 1);
@@ -817,6 +818,23 @@ char* write_shortest(char* first, double x) {
   }
   std::memcpy(first, kDigitPairs + 2 * a, 2);
   return first + 2;
+}
+
+}  // namespace
+
+char* write_shortest(char* first, double x) { return shortest_text(first, x); }
+
+char* write_csv_numbers(char* first, std::span<const double> values) {
+  for (const double x : values) {
+    first = shortest_text(first, x);
+    *first++ = ',';
+  }
+  if (values.empty()) {
+    *first++ = '\n';
+  } else {
+    first[-1] = '\n';  // the last separator
+  }
+  return first;
 }
 
 }  // namespace lgvi::experiments

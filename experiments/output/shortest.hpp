@@ -7,10 +7,12 @@
 // 2020, sections 9-10): one 64x128-bit product per bound against a table of 10^-k, rounded to
 // odd, then a choice among at most four candidates. Zero, subnormals, infinities, NaN and
 // |x| >= 2^52 (where std::to_chars's fixed form may print more digits than the shortest) go to
-// std::to_chars itself.
+// std::to_chars itself. write_csv_numbers formats a whole row with the formatter inlined (no
+// call a number).
 #pragma once
 
 #include <cstddef>
+#include <span>
 
 namespace lgvi::experiments {
 
@@ -23,5 +25,9 @@ inline constexpr std::size_t kShortestRoom = 40;
 /// Writes x at `first` (room for kShortestRoom bytes) as std::to_chars(first, last, x) does;
 /// returns the end of the text.
 char* write_shortest(char* first, double x);
+
+/// One CSV row: the values by write_shortest, ',' between them, '\n' after (room for
+/// values.size() (kShortestMaxChars + 1) + kShortestRoom bytes); returns the end of the row.
+char* write_csv_numbers(char* first, std::span<const double> values);
 
 }  // namespace lgvi::experiments
