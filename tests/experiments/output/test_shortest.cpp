@@ -22,7 +22,8 @@ namespace {
 std::string mismatch(double x) {
   char expected[64];
   char written[kShortestRoom + 8];
-  const std::string_view want(expected, static_cast<std::size_t>(std::to_chars(expected, expected + 64, x).ptr - expected));
+  const char* want_end = std::to_chars(expected, expected + 64, x).ptr;
+  const std::string_view want(expected, static_cast<std::size_t>(want_end - expected));
   const char* end = write_shortest(written, x);
   const std::string_view got(written, static_cast<std::size_t>(end - written));
   if (got == want && got.size() <= kShortestMaxChars &&
