@@ -14,7 +14,7 @@ __extension__ typedef unsigned __int128 u128;  // a GCC and Clang extension (-Wp
 
 /// g(k) = floor(10^-k 2^(125 - floor(log2 10^-k))) + 1 (2^125 < g <= 2^126) as {g >> 63,
 /// g mod 2^63}, k = -324 .. 292 (Schubfach, section 10), computed in exact rational arithmetic
-/// (Python's fractions.Fraction; the first entry, k = -324, is the paper's too).
+/// (Python's fractions.Fraction).
 struct Power {
   u64 hi, lo;
 };

@@ -6,8 +6,8 @@
 // The digits come from R. Giulietti's Schubfach algorithm ("The Schubfach way to render doubles",
 // 2020, sections 9-10): one 64x128-bit product per bound against a table of 10^-k, rounded to
 // odd, then a choice among at most four candidates. Zero, subnormals, infinities, NaN and
-// |x| >= 2^52 (where std::to_chars's fixed form may print more digits than the shortest) go to
-// std::to_chars itself. write_csv_numbers formats a whole row with the formatter inlined (no
+// |x| >= 2^52 (integers of 16 digits and more, left out of the fast path and of its proof
+// obligations) go to std::to_chars itself. write_csv_numbers formats a whole row with the formatter inlined (no
 // call a number).
 #pragma once
 
