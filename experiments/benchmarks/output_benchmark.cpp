@@ -1,19 +1,38 @@
 // What output costs (Google Benchmark): the bare LGVI integration of a scene (lgvi::integrate
 // with a null observer) against the whole `simulate` path (recorder, diagnostics, CSV written to
 // a temporary file and renamed) at --every 1000, 10 and 1, on the same scene and horizon, and
-// the parts of a row (formatting and writing; diagnostics). Each iteration is one whole run (or
-// its 20001 rows); items/s is steps (rows) per second. The ratios of the simulate rows to the
-// bare row are the cost of output.
+// the parts of a row (formatting alone; formatting and writing; diagnostics). Each iteration is
+// one whole run (or its 20001 rows); items/s is steps (rows) per second. The ratios of the
+// simulate rows to the bare row are the cost of output.
+//
+// One run (2 cores shared with other work, under the build lock), CPU-time medians of 5
+// repetitions interleaved at random:
+//   lgvi-output-benchmarks --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
+//   BM_BareIntegration 2.99 ms (150 ns a step); BM_Simulate/1000 3.67 ms (1.23x), /10 4.97 ms
+//   (1.66x), /1 19.3 ms (6.5x, 0.82 us of output a row); BM_CsvRows/25 19.0 ms (0.95 us a row of
+//   25 numbers formatted and written), /20 14.8 ms (0.74 us); BM_FormatRows/1/25 14.9 ms (0.75
+//   us, 30 ns a number), /1/20 11.9 ms, /0/25 (std::to_chars, the same bytes) 21.9 ms (1.10 us);
+//   BM_RecordRows 15.3 ms (0.77 us: the pendulum's row of 20 numbers with its diagnostics).
+// Before write_shortest and the row buffer (std::to_chars, one fwrite a row), the same command
+// on another run: BM_CsvRows (then 20 numbers) 25.4 ms, 1.27 us a row; BM_Simulate/1 29.8 ms
+// against 2.77 ms bare (10.8x).
+// What bounds --every 1: 4x the bare run leaves 3 x 2.99 = 9.0 ms for the 20001 rows (0.45 us a
+// row, 22 ns a number with nothing else done), and formatting their numbers alone takes 11.9 ms
+// (BM_FormatRows/1/20). The run's 19.3 ms: the integration (2.99), the recorded rows (15.3:
+// formatting 11.9, diagnostics and writing 3.4), the rest (1.0: the driver's samples, the
+// metadata, the commit).
 #include <benchmark/benchmark.h>
 
 #include <unistd.h>
 
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "experiments/output/csv_writer.hpp"
+#include "experiments/output/shortest.hpp"
 #include "experiments/methods/method.hpp"
 #include "experiments/methods/recorder.hpp"
 #include "experiments/scene/scene.hpp"
@@ -91,22 +110,58 @@ std::vector<Sample> tumbling_samples() {
   return samples;
 }
 
-/// The parts of a row: CsvWriter::write_row alone (25 numbers formatted and written), and
-/// Recorder::record (energy, momentum, orthogonality and determinant errors, then the row).
-/// Each iteration writes the 20001 rows of a whole --every 1 pendulum run to a temporary file
-/// (removed: no commit).
+/// The rows of BM_CsvRows and BM_FormatRows: `columns` numbers, the sample's time, then the
+/// entries of its R scaled by the column's index (16 or 17 significant digits, like a
+/// recorded row). 20 columns are the pendulum's row, 25 the yardstick of a row's cost.
+std::vector<std::string> row_columns(std::size_t columns) { return std::vector<std::string>(columns, "c"); }
+void fill_row(const Sample& s, std::vector<double>& row) {
+  row[0] = s.t;
+  const double* R = state_of<PendulumModel>(s).R.data();
+  for (std::size_t i = 1; i < row.size(); ++i) row[i] = R[i % 9] * static_cast<double>(i);
+}
+
+/// The parts of a row: CsvWriter::write_row alone (Arg: numbers a row, formatted and written),
+/// the formatting alone (BM_FormatRows), and Recorder::record (energy, momentum, orthogonality
+/// and determinant errors, then the pendulum's row of 20 numbers). Each iteration writes the
+/// 20001 rows of a whole --every 1 pendulum run to a temporary file (removed: no commit).
 void BM_CsvRows(benchmark::State& bench) {
-  const Scene scene = pendulum_scene(1);
   const std::vector<Sample> samples = tumbling_samples();
-  const std::vector<std::string> columns = Recorder::columns(scene.model);
-  std::vector<double> row(columns.size());
+  std::vector<double> row(static_cast<std::size_t>(bench.range(0)));
   for (auto _ : bench) {
-    CsvWriter csv(scratch() / "rows.csv", columns, {{"scene", scene.name}});
+    CsvWriter csv(scratch() / "rows.csv", row_columns(row.size()), {{"scene", std::string("pendulum")}});
     for (const Sample& s : samples) {
-      row[0] = s.t;
-      for (std::size_t i = 1; i < row.size(); ++i) row[i] = state_of<PendulumModel>(s).R.data()[i % 9] * static_cast<double>(i);
+      fill_row(s, row);
       csv.write_row(row);
     }
+  }
+  bench.SetItemsProcessed(bench.iterations() * static_cast<std::int64_t>(samples.size()));
+}
+
+/// BM_CsvRows's rows (Args: formatter, numbers a row) formatted alone into a buffer reused when
+/// full, no file: write_csv_numbers (1), as CsvWriter writes them, or std::to_chars (0), whose
+/// bytes they are.
+void BM_FormatRows(benchmark::State& bench) {
+  const std::vector<Sample> samples = tumbling_samples();
+  std::vector<double> row(static_cast<std::size_t>(bench.range(1)));
+  std::vector<char> buffer(CsvWriter::kRowBufferSize);
+  const bool shortest = bench.range(0) == 1;
+  for (auto _ : bench) {
+    char* p = buffer.data();
+    for (const Sample& s : samples) {
+      fill_row(s, row);
+      if (buffer.data() + buffer.size() - p < 2048) p = buffer.data();
+      if (shortest) {
+        p = write_csv_numbers(p, row);
+        continue;
+      }
+      for (const double x : row) {
+        p = std::to_chars(p, p + kShortestRoom, x).ptr;
+        *p++ = ',';
+      }
+      p[-1] = '\n';
+    }
+    benchmark::DoNotOptimize(buffer.data());
+    benchmark::ClobberMemory();
   }
   bench.SetItemsProcessed(bench.iterations() * static_cast<std::int64_t>(samples.size()));
 }
@@ -124,7 +179,8 @@ void BM_RecordRows(benchmark::State& bench) {
 }
 
 BENCHMARK(BM_BareIntegration)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_CsvRows)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CsvRows)->Arg(20)->Arg(25)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FormatRows)->Args({0, 25})->Args({1, 20})->Args({1, 25})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RecordRows)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Simulate)->Arg(1000)->Arg(10)->Arg(1)->Unit(benchmark::kMillisecond);
 

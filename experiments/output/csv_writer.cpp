@@ -12,6 +12,8 @@
 #include <cstring>
 #include <memory>
 
+#include "experiments/output/shortest.hpp"
+
 namespace lgvi::experiments {
 
 namespace {
@@ -117,12 +119,13 @@ std::string padding_line(std::size_t size) {
 }  // namespace
 
 CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> columns)
-    : target_(std::move(target)), columns_(std::move(columns)), file_(target_), buffered_(file_.is_stream()) {}
+    : target_(std::move(target)), columns_(std::move(columns)), file_(target_), buffered_(file_.is_stream()),
+      rows_buffer_(new char[kRowBufferSize]) {}
 
 CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> columns, const Fields& leading,
                      std::size_t reserve)
     : target_(std::move(target)), columns_(std::move(columns)), leading_(metadata_lines(leading)), file_(target_),
-      reserve_(std::max<std::size_t>(reserve, 2)) {
+      reserve_(std::max<std::size_t>(reserve, 2)), rows_buffer_(new char[kRowBufferSize]) {
   const std::string header = header_line(columns_);
   file_.write(leading_);
   if (file_.is_stream()) {  // no block to come back to: the closing lines go after the rows
@@ -137,6 +140,14 @@ CsvWriter::CsvWriter(std::filesystem::path target, std::vector<std::string> colu
   rows_offset_ = reserve_offset_ + static_cast<long>(reserve_ + header.size());
 }
 
+CsvWriter::~CsvWriter() {
+  if (!file_.is_stream() || buffered_) return;  // the temporary goes (AtomicFile), or nothing was sent yet
+  try {
+    drain();
+  } catch (const OutputError&) {  // best effort: a destructor has no one to tell
+  }
+}
+
 void CsvWriter::emit(std::string_view text) {
   if (buffered_) {
     buffer_.append(text);
@@ -145,27 +156,41 @@ void CsvWriter::emit(std::string_view text) {
   }
 }
 
+void CsvWriter::drain() {
+  if (pending_ == 0) return;
+  const std::size_t n = pending_;
+  pending_ = 0;
+  emit(std::string_view(rows_buffer_.get(), n));
+}
+
 void CsvWriter::write_row(std::span<const double> values) {
   assert(values.size() == columns_.size());
-  // One buffer per row; 25 characters hold any double in its shortest round-trip form (at most
-  // 24: "-2.2250738585072014e-308") plus the separator.
-  std::array<char, 64 * 26> line;
-  char* p = line.data();
-  char* const end = line.data() + line.size();
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    if (end - p < 26) {  // very wide rows: flush the partial line
-      emit(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
-      p = line.data();
+  // Room for the row at its longest: each number and its separator, the scratch of the last
+  // number (write_shortest), the newline.
+  const std::size_t longest = values.size() * (kShortestMaxChars + 1) + kShortestRoom + 1;
+  if (kRowBufferSize - pending_ < longest) drain();
+  char* const begin = rows_buffer_.get();
+  char* p = begin + pending_;
+  if (longest <= kRowBufferSize) {
+    p = write_csv_numbers(p, values);
+  } else {  // a row wider than the buffer (over 2,500 columns): handed on in parts
+    for (const double x : values) {
+      if (static_cast<std::size_t>(begin + kRowBufferSize - p) < kShortestRoom + 1) {
+        pending_ = static_cast<std::size_t>(p - begin);
+        drain();
+        p = begin;
+      }
+      p = write_shortest(p, x);
+      *p++ = ',';
     }
-    if (i > 0) *p++ = ',';
-    p = std::to_chars(p, end, values[i]).ptr;
+    p[-1] = '\n';  // the last separator (the row has numbers: it is wide)
   }
-  *p++ = '\n';
-  emit(std::string_view(line.data(), static_cast<std::size_t>(p - line.data())));
+  pending_ = static_cast<std::size_t>(p - begin);
   ++rows_;
 }
 
 void CsvWriter::commit(const Fields& closing) {
+  drain();
   const std::string closing_text = metadata_lines(closing);
   if (trailer_) {
     file_.write(closing_text);

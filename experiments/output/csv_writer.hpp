@@ -11,6 +11,11 @@
 // Closing metadata longer than the block (or a writer made without one) is written by copying
 // the rows once more into a second temporary file behind the complete metadata.
 //
+// Rows are formatted into one buffer of kRowBufferSize bytes, allocated with the writer, and
+// handed to the file when the next row might not fit (and at commit): one write per 64 KiB,
+// nothing allocated per row. Numbers are written by write_shortest (shortest.hpp), byte for byte
+// std::to_chars's text.
+//
 // A stream target ("-" for standard output, an existing FIFO or device: atomic_file.hpp) cannot
 // seek back: with leading metadata, the rows stream out as they come and the closing metadata
 // follows the last row as `# key: value` lines (a trailer); without, the rows are held in memory
@@ -19,6 +24,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -33,6 +39,8 @@ class CsvWriter {
   /// Bytes reserved for the closing metadata by default: a status line (the longest seen are
   /// solver failures with the solver's message, ~250 characters) and a few counts.
   static constexpr std::size_t kDefaultReserve = 512;
+  /// Bytes of rows gathered before they are written.
+  static constexpr std::size_t kRowBufferSize = std::size_t{1} << 16;
 
   /// All metadata at commit: the rows are copied once behind it then. For small outputs.
   /// Throws OutputError.
@@ -41,6 +49,11 @@ class CsvWriter {
   /// metadata, then the header; the rows are written once. Throws OutputError.
   CsvWriter(std::filesystem::path target, std::vector<std::string> columns, const Fields& leading,
             std::size_t reserve = kDefaultReserve);
+  /// Without commit: the temporary is removed; a stream target still receives the rows gathered
+  /// (as it received every row before them).
+  ~CsvWriter();
+  CsvWriter(const CsvWriter&) = delete;
+  CsvWriter& operator=(const CsvWriter&) = delete;
 
   const std::vector<std::string>& columns() const { return columns_; }
   /// Appends one data row. Precondition: values.size() == columns().size().
@@ -66,8 +79,12 @@ class CsvWriter {
   bool trailer_ = false;       ///< stream target with leading metadata: closing metadata after the rows
   bool buffered_ = false;      ///< stream target without: rows held in `buffer_` until commit
   std::string buffer_;
+  std::unique_ptr<char[]> rows_buffer_;  ///< kRowBufferSize bytes: rows not yet handed on
+  std::size_t pending_ = 0;              ///< bytes of rows in rows_buffer_
 
   void emit(std::string_view text);
+  /// Hands the pending rows to the file (or buffer_). Throws OutputError.
+  void drain();
 };
 
 /// The metadata lines of `fields`: "# key: value\n" each, newlines in keys and values replaced by

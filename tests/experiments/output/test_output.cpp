@@ -1,8 +1,16 @@
 // Atomic output: CSV writer, JSON summary, temporaries never left behind.
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <charconv>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -10,6 +18,7 @@
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/csv_writer.hpp"
 #include "experiments/output/json_writer.hpp"
+#include "test_support.hpp"
 
 namespace lgvi::experiments {
 namespace {
@@ -47,6 +56,132 @@ TEST(CsvWriter, WritesMetadataHeaderAndFullPrecisionRows) {
   }
   EXPECT_NE(text.find("\n0,0.3333333333333333\n0.1,-1e-300\n0.2,6.02214076e+23\n"), std::string::npos) << text;
   EXPECT_EQ(dir.work_entries(), std::vector<std::string>{"out.csv"});
+}
+
+/// `rows` rows of `columns` numbers of every magnitude and length (seeded), and the text the
+/// writer made of them before its own formatter: std::to_chars each, ',' between, '\n' after.
+struct RowsAndText {
+  std::vector<std::vector<double>> rows;
+  std::string text;
+};
+RowsAndText rows_and_text(std::size_t rows, std::size_t columns, std::uint64_t salt) {
+  std::mt19937_64 rng = test::make_rng(salt);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-30, 30);
+  RowsAndText out;
+  for (std::size_t r = 0; r < rows; ++r) {
+    std::vector<double> row(columns);
+    for (std::size_t i = 0; i < columns; ++i) {
+      switch (i % 4) {
+        case 0: row[i] = 1e-3 * static_cast<double>(r); break;                     // a time
+        case 1: row[i] = unit(rng); break;                                          // an attitude entry
+        case 2: row[i] = unit(rng) * std::pow(10.0, exponent(rng)); break;          // any magnitude
+        default: row[i] = static_cast<double>(static_cast<int>(rng() % 7)); break;  // a count
+      }
+    }
+    for (std::size_t i = 0; i < columns; ++i) {
+      char buf[32];
+      out.text.append(buf, std::to_chars(buf, buf + sizeof buf, row[i]).ptr);
+      out.text += i + 1 < columns ? ',' : '\n';
+    }
+    out.rows.push_back(std::move(row));
+  }
+  return out;
+}
+
+TEST(CsvWriter, RowsAreTheBytesOfToCharsAcrossTheRowBuffer) {
+  // 6000 rows of 25 numbers (~2.6 MB, many times CsvWriter::kRowBufferSize): the rows are
+  // std::to_chars's text, in order, whichever writer and however the buffer is cut.
+  const RowsAndText data = rows_and_text(6000, 25, 1);
+  ASSERT_GT(data.text.size(), 8 * CsvWriter::kRowBufferSize);
+  const std::vector<std::string> columns(25, "c");
+  const std::string header = "c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c\n";
+  for (const bool leading : {false, true}) {
+    TempDir dir;
+    const auto target = dir.work() / "out.csv";
+    std::optional<CsvWriter> csv;
+    if (leading) {
+      csv.emplace(target, columns, Fields{{"scene", std::string("demo")}}, 32);
+    } else {
+      csv.emplace(target, columns);
+    }
+    for (const auto& row : data.rows) csv->write_row(row);
+    csv->commit({{"status", std::string("completed")}});
+    const std::string text = test::read_text(target);
+    const std::string meta = leading ? "# scene: demo\n# status: completed\n#" + std::string(32 - 20 - 2, ' ') + "\n"
+                                     : "# status: completed\n";
+    EXPECT_EQ(text.substr(0, meta.size() + header.size()), meta + header) << leading;
+    EXPECT_TRUE(text.substr(meta.size() + header.size()) == data.text) << leading;  // no 2.6 MB diff printed
+    const test::CsvParts parts = test::read_csv(target);
+    ASSERT_EQ(parts.rows.size(), data.rows.size());
+    for (std::size_t r = 0; r < data.rows.size(); r += 997) {
+      for (std::size_t i = 0; i < 25; ++i) EXPECT_EQ(parts.rows[r][i], data.rows[r][i]);  // reads back exactly
+    }
+  }
+}
+
+TEST(CsvWriter, ARowWiderThanTheRowBufferIsWrittenWhole) {
+  const std::size_t columns = CsvWriter::kRowBufferSize / 10;  // up to 25 bytes each: 2.5 buffers
+  const RowsAndText data = rows_and_text(3, columns, 2);
+  TempDir dir;
+  const auto target = dir.work() / "wide.csv";
+  CsvWriter csv(target, std::vector<std::string>(columns, "c"), {}, 2);
+  for (const auto& row : data.rows) csv.write_row(row);
+  csv.commit({});
+  const std::string text = test::read_text(target);
+  EXPECT_TRUE(text.substr(2 + 2 * columns) == data.text);  // past the block "#\n" and the header
+  EXPECT_EQ(test::read_csv(target).rows.size(), 3u);
+}
+
+TEST(CsvWriter, AStreamTargetReceivesEveryRowWithTheTrailer) {
+  // A descriptor name is a stream target (atomic_file.hpp): with leading metadata the rows go
+  // out as the buffer fills and the closing metadata follows them; without, all at commit. A
+  // writer destroyed without commit still sends the rows it gathered.
+  const RowsAndText data = rows_and_text(3000, 25, 3);
+  for (const int variant : {0, 1, 2}) {  // leading metadata; none; leading, never committed
+    TempDir dir;
+    const auto file = dir.work() / "stream.csv";
+    test::write_text(file, "");
+    const int fd = ::open(file.c_str(), O_WRONLY | O_APPEND);
+    ASSERT_GE(fd, 0);
+    {
+      const std::filesystem::path name = "/proc/self/fd/" + std::to_string(fd);
+      std::optional<CsvWriter> csv;
+      if (variant == 1) {
+        csv.emplace(name, std::vector<std::string>{"t", "x"});
+      } else {
+        csv.emplace(name, std::vector<std::string>(25, "c"), Fields{{"scene", std::string("demo")}});
+      }
+      for (const auto& row : data.rows) {
+        csv->write_row(variant == 1 ? std::span<const double>(row).first(2) : std::span<const double>(row));
+      }
+      if (variant != 2) csv->commit({{"status", std::string("completed")}});
+    }
+    ::close(fd);
+    const std::string text = test::read_text(file);
+    if (variant == 1) {
+      EXPECT_EQ(text.substr(0, 24), "# status: completed\nt,x\n");
+      EXPECT_EQ(test::read_csv(file).rows.size(), data.rows.size());
+    } else {
+      const std::string head = "# scene: demo\nc,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c,c\n";
+      const std::string tail = variant == 0 ? "# status: completed\n" : "";
+      EXPECT_TRUE(text == head + data.text + tail) << variant;
+    }
+    EXPECT_EQ(dir.work_entries(), std::vector<std::string>{"stream.csv"});
+  }
+}
+
+TEST(CsvWriter, AWriterDestroyedMidRunLeavesNoFile) {
+  // Rows beyond the buffer were written to the temporary already: it is removed all the same.
+  const RowsAndText data = rows_and_text(3000, 25, 4);
+  TempDir dir;
+  {
+    CsvWriter csv(dir.work() / "out.csv", std::vector<std::string>(25, "c"), {{"scene", std::string("demo")}});
+    for (const auto& row : data.rows) csv.write_row(row);
+    ASSERT_EQ(dir.work_entries().size(), 1u);
+    EXPECT_GT(std::filesystem::file_size(dir.work() / dir.work_entries().front()), CsvWriter::kRowBufferSize);
+  }
+  EXPECT_TRUE(dir.work_entries().empty());
 }
 
 /// Inode of the only file in `dir` (the writer's temporary while it writes).
