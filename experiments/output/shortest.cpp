@@ -14,7 +14,7 @@ __extension__ typedef unsigned __int128 u128;  // a GCC and Clang extension (-Wp
 
 /// g(k) = floor(10^-k 2^(125 - floor(log2 10^-k))) + 1 (2^125 < g <= 2^126) as {g >> 63,
 /// g mod 2^63}, k = -324 .. 292 (Schubfach, section 10), computed in exact rational arithmetic
-/// (Python's fractions.Fraction).
+/// by shortest_table.py, which the test shortest_table checks these rows against.
 struct Power {
   u64 hi, lo;
 };
@@ -641,8 +641,8 @@ constexpr Power kPowers[] = {
 
 // floor(q log10 2), floor(log10(3/4 2^q)) and floor(e log2 10) by multiply and shift (the
 // constants of Dragonbox, J. Jeon 2020), checked against exact values for q in [-1100, 1000]
-// and e in [-330, 330] when the table was generated; test_shortest.cpp runs every q of a
-// normal double through both branches (each power of 2 and its neighbours).
+// and e in [-330, 330] by shortest_table.py (the test shortest_table); test_shortest.cpp runs
+// every q of a normal double through both branches (each power of 2 and its neighbours).
 constexpr int floor_log10_pow2(int q) { return (q * 78913) >> 18; }
 constexpr int floor_log10_three_quarters_pow2(int q) { return (q * 631305 - 261663) >> 21; }
 constexpr int floor_log2_pow10(int e) { return (e * 1741647) >> 19; }

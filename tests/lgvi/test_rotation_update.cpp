@@ -609,5 +609,96 @@ TEST(RotationUpdate, FastSymmetricSpinIsReportedAsOutsideTheDomainWithTheAdmissi
   EXPECT_LT(solver.matrix_residual(F, hp).norm(), 1e-14);
 }
 
+
+// --- The fast path hands over to the whole method without changing the result -----------------
+// solve() runs the primary chart's Newton iteration inline until it meets what it does not handle
+// (a nearly singular Newton matrix, a non-finite value, the cap, a converged |G| that wants the
+// polishing step), then slow_path() continues the whole method from that iterate
+// (rotation_update.hpp). So whenever the whole method in the primary chart from its warm start
+// (solve_in) converges, solve() must return its f to the last bit, with its iteration count,
+// polishing flag and residual, and no fallback. Cases: random valid inertias at h |Omega| up to
+// the fold (where Newton matrices turn nearly singular and the cap is met), and the
+// ill-conditioned rod of the test above (where the polishing step is taken); both primaries.
+// The counts printed show that each hand-over was exercised.
+TEST(RotationUpdateFastPath, GivesTheWholeMethodsIteratesCountsAndResiduals) {
+  std::vector<Sample> cases;
+  for (const double max_h_omega : {0.1, 1.0, 1.6, 2.0}) {
+    for (const Sample& s : random_batch(max_h_omega, 400, 707 + static_cast<std::uint64_t>(10 * max_h_omega))) {
+      cases.push_back(s);
+    }
+  }
+  const Vec3 rho = 0.15 * Vec3(1, 1, 1).normalized();
+  const Inertia rod = Inertia::from(rho.squaredNorm() * Mat3::Identity() - rho * rho.transpose() +
+                                    0.4 * 0.02 * 0.02 * Mat3::Identity());
+  auto rng = test::make_rng(709);
+  std::normal_distribution<double> normal;
+  for (int k = 0; k < 400; ++k) {
+    const Vec3 Omega_h = 0.5 * rho.normalized() + 0.02 * Vec3(normal(rng), normal(rng), normal(rng));
+    cases.push_back({rod, rod.J * Omega_h});
+  }
+  for (const Parametrization primary : {Parametrization::Cayley, Parametrization::Exponential}) {
+    RotationUpdateOptions options;
+    options.primary = primary;
+    int agreed = 0, polished = 0, primary_failed = 0;
+    for (const Sample& s : cases) {
+      const RotationUpdateSolver solver(s.inertia, options);
+      Vec3 f_whole = Vec3::Constant(std::nan(""));
+      const RotationUpdateSummary whole = solver.solve_in(primary, s.hp, f_whole);
+      RotationStep step;
+      const RotationUpdateSummary r = solver.solve(s.hp, step);
+      if (!whole.converged()) {
+        ++primary_failed;
+        if (r.iterations == 0) {  // refused before iterating: |h p| beyond the domain bound
+          EXPECT_EQ(r.status, RotationUpdateStatus::OutsideDomain) << r.brief();
+        } else {  // the fallback chart's business, its iterations counted on top of the primary's
+          EXPECT_TRUE(!r.converged() || r.used_fallback) << r.brief();
+          EXPECT_GE(r.iterations, whole.iterations) << r.brief();
+        }
+        continue;
+      }
+      ASSERT_TRUE(r.converged()) << r.brief();
+      EXPECT_FALSE(r.used_fallback);
+      EXPECT_EQ(step.chart, primary);
+      EXPECT_EQ(step.f, f_whole) << r.brief() << "\n" << whole.brief();
+      EXPECT_EQ(r.iterations, whole.iterations);
+      EXPECT_EQ(r.polished, whole.polished);
+      EXPECT_EQ(r.residual(), whole.residual());
+      EXPECT_EQ(step.matrix(), rotation_from(primary, f_whole));
+      ++agreed;
+      polished += whole.polished ? 1 : 0;
+    }
+    std::cout << "[ measured ] " << to_string(primary) << " primary: " << agreed
+              << " solves equal to the whole method (" << polished << " polished), "
+              << primary_failed << " where the primary chart failed\n";
+    EXPECT_GT(polished, 0) << "no case took the polishing hand-over";
+    EXPECT_GT(primary_failed, 0) << "no case reached the slow path's failure branch";
+  }
+}
+
+// RotationStep applies F without forming it: R F and F^T k agree with the products by F =
+// step.matrix(). Bound: each entry, either way, is a sum of at most three terms of size <= its
+// row's norm (|r_i| = 1; |k|), rounded at most 4 times, so within ~2 eps of the exact value and
+// 4 eps of each other; over the 9 entries of R F (3 of F^T k) in the Frobenius norm, 12 eps.
+TEST(RotationStep, AppliesFAsTheProductsWithTheMatrixDo) {
+  auto rng = test::make_rng(711);
+  std::normal_distribution<double> normal;
+  for (const Parametrization chart : {Parametrization::Cayley, Parametrization::Exponential}) {
+    RotationUpdateOptions options;
+    options.primary = chart;
+    const RotationUpdateSolver solver(paper_inertia(), options);
+    for (int k = 0; k < 200; ++k) {
+      const Vec3 hp = paper_inertia().J * (0.5 * Vec3(normal(rng), normal(rng), normal(rng)).normalized());
+      RotationStep step;
+      const RotationUpdateSummary r = solver.solve(hp, step);
+      ASSERT_TRUE(r.converged()) << r.brief();
+      const Mat3 F = step.matrix();
+      const Mat3 R = so3::random_rotation(rng);
+      const Vec3 kick(normal(rng), normal(rng), normal(rng));
+      EXPECT_LE((step.right_multiply(R) - R * F).norm(), 12.0 * kEps);
+      EXPECT_LE((step.transpose_times(kick) - F.transpose() * kick).norm(), 12.0 * kEps * kick.norm());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lgvi
