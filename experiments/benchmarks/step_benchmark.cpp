@@ -24,7 +24,7 @@
 //
 // The table of the docs comes from one run of
 //   ./build/experiments/benchmarks/lgvi-benchmarks --benchmark_repetitions=9
-//     --benchmark_enable_random_interleaving=true --benchmark_filter='^(free-body|pendulum)/'
+//     --benchmark_enable_random_interleaving=true
 // (on the shared development machine under `flock /tmp/lgvi-build.lock`, so that no build runs
 // beside it): the repetitions interleaved at random, so that a slow spell of the machine spreads
 // over all methods rather than landing on one, and CPU time, so that preemption is not counted.
