@@ -11,10 +11,13 @@
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "lgvi/lgvi.hpp"
 #include "lgvi/rotation_update.hpp"
+#include "lgvi/so3.hpp"
 #include "test_support.hpp"
 
 namespace lgvi::test {
@@ -32,6 +35,25 @@ struct StepCase {
   std::function<State(const State&, int, double)> perturb;
   int dimension;
 };
+
+/// An attitude case's distance and perturbations, the state (R, Pi) made and its cached moment
+/// recomputed by `lgvi` (an AttitudeLgvi, kept alive by the case with `owner`, e.g. its system):
+/// |R_a - R_b|_F combined with |Pi_a - Pi_b| / pi_scale; directions 0-2 move R by
+/// R exp(eps e_i), 3-5 move Pi by eps pi_scale e_i.
+template <class Lgvi>
+void set_attitude_geometry(StepCase<AttitudeState>& c, std::shared_ptr<const Lgvi> lgvi,
+                           double pi_scale, std::shared_ptr<const void> owner = nullptr) {
+  c.distance = [pi_scale](const AttitudeState& a, const AttitudeState& b) {
+    return std::hypot((a.R - b.R).norm(), (a.Pi - b.Pi).norm() / pi_scale);
+  };
+  c.perturb = [lgvi, owner, pi_scale](const AttitudeState& s, int i, double eps) {
+    if (i < 3) return lgvi->make_state(s.R * so3::exp(eps * Vec3::Unit(i)), lgvi->omega(s));
+    AttitudeState t = lgvi->make_state(s.R, lgvi->omega(s));
+    t.Pi += eps * pi_scale * Vec3::Unit(i - 3);
+    return t;
+  };
+  c.dimension = 6;
+}
 
 struct StepComparison {
   double max_step_difference = 0.0;  ///< max_k delta_k in distance units

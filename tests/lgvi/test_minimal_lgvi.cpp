@@ -74,16 +74,7 @@ StepCase<AttitudeState> minimal_case(const AttitudeCase<System>& bench_case, dou
   c.reference = [system, lgvi, h](const AttitudeState& in, AttitudeState& out) {
     return project_step(*lgvi, in, h, out);
   };
-  c.distance = [pi_scale](const AttitudeState& a, const AttitudeState& b) {
-    return std::hypot((a.R - b.R).norm(), (a.Pi - b.Pi).norm() / pi_scale);
-  };
-  c.perturb = [system, lgvi, pi_scale](const AttitudeState& s, int i, double eps) {
-    if (i < 3) return lgvi->make_state(s.R * so3::exp(eps * Vec3::Unit(i)), lgvi->omega(s));
-    AttitudeState t = lgvi->make_state(s.R, lgvi->omega(s));
-    t.Pi += eps * pi_scale * Vec3::Unit(i - 3);
-    return t;
-  };
-  c.dimension = 6;
+  set_attitude_geometry<AttitudeLgvi<System>>(c, lgvi, pi_scale, system);
   return c;
 }
 
