@@ -80,15 +80,19 @@ RotationUpdateSummary RotationUpdateSolver::outside_domain(const Vec3& hp, doubl
 }
 
 RotationUpdateSummary RotationUpdateSolver::newton_in(Parametrization p, const Vec3& hp,
-                                                      double rhs_norm, RotationStep& step) const {
+                                                      double rhs_norm,
+                                                      const rotation_update_detail::FastNewton* from,
+                                                      RotationStep& step) const {
   namespace d = rotation_update_detail;
   const d::V3 b = d::v3(hp);
   RotationUpdateSummary s =
       p == Parametrization::Cayley
           ? d::newton<d::CayleyChart>(inertia_, J_norm_, options_, hp, rhs_norm,
-                                      d::CayleyChart::warm_start(inertia_, b), 0, step)
+                                      from ? from->f : d::CayleyChart::warm_start(inertia_, b),
+                                      from ? from->iterations : 0, step)
           : d::newton<d::ExponentialChart>(inertia_, J_norm_, options_, hp, rhs_norm,
-                                           d::ExponentialChart::warm_start(inertia_, b), 0, step);
+                                           from ? from->f : d::ExponentialChart::warm_start(inertia_, b),
+                                           from ? from->iterations : 0, step);
   s.parametrization = p;
   if (s.converged()) step.chart = p;
   return s;
@@ -97,25 +101,16 @@ RotationUpdateSummary RotationUpdateSolver::newton_in(Parametrization p, const V
 RotationUpdateSummary RotationUpdateSolver::slow_path(const Vec3& hp, double rhs_norm,
                                                       const rotation_update_detail::FastNewton& at,
                                                       RotationStep& step) const {
-  namespace d = rotation_update_detail;
   const Parametrization primary = options_.primary;
-  RotationUpdateSummary s =
-      primary == Parametrization::Cayley
-          ? d::newton<d::CayleyChart>(inertia_, J_norm_, options_, hp, rhs_norm, at.f, at.iterations, step)
-          : d::newton<d::ExponentialChart>(inertia_, J_norm_, options_, hp, rhs_norm, at.f,
-                                           at.iterations, step);
-  s.parametrization = primary;
-  if (s.converged()) {
-    step.chart = primary;
-    return s;
-  }
+  RotationUpdateSummary s = newton_in(primary, hp, rhs_norm, &at, step);
+  if (s.converged()) return s;
   if (options_.fallback) {
     // The other chart from its own warm start, its iterations counted on top.
     const Parametrization other =
         primary == Parametrization::Cayley ? Parametrization::Exponential : Parametrization::Cayley;
     RotationStep candidate;
     const int primary_iterations = s.iterations;
-    s = newton_in(other, hp, rhs_norm, candidate);
+    s = newton_in(other, hp, rhs_norm, nullptr, candidate);
     s.iterations += primary_iterations;
     s.used_fallback = true;
     if (s.converged()) {

@@ -182,8 +182,10 @@ class RotationUpdateSolver {
  private:
   /// The summary of a right-hand side outside the domain (or not finite), diagnosed.
   RotationUpdateSummary outside_domain(const Vec3& hp, double rhs_norm) const;
-  /// Newton in chart p from its warm start (rotation_update_detail::newton).
+  /// Newton in chart p (rotation_update_detail::newton) from the iterate `from` where the fast
+  /// path stopped, or from the chart's warm start when `from` is null.
   RotationUpdateSummary newton_in(Parametrization p, const Vec3& hp, double rhs_norm,
+                                  const rotation_update_detail::FastNewton* from,
                                   RotationStep& step) const;
   /// solve() after the fast path stopped at `at` without converging: newton() continued from
   /// there in the primary chart, then the other chart (options.fallback), then diagnose().
@@ -511,10 +513,8 @@ inline Vec3 RotationStep::transpose_times(const Vec3& k_in) const {
 
 inline RotationUpdateSummary RotationUpdateSolver::solve_in(Parametrization p, const Vec3& hp,
                                                            Vec3& f) const {
-  namespace d = rotation_update_detail;
-  const double rhs_norm = hp.norm();
   RotationStep step;
-  RotationUpdateSummary s = newton_in(p, hp, rhs_norm, step);
+  RotationUpdateSummary s = newton_in(p, hp, hp.norm(), nullptr, step);
   if (s.converged()) f = step.f;
   return s;
 }

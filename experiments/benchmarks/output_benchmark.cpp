@@ -5,22 +5,12 @@
 // one whole run (or its 20001 rows); items/s is steps (rows) per second. The ratios of the
 // simulate rows to the bare row are the cost of output.
 //
-// One run (2 cores shared with other work, under the build lock), CPU-time medians of 5
-// repetitions interleaved at random:
+// The numbers of docs/cli.md ("Cost of output") come from runs of
 //   lgvi-output-benchmarks --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
-//   BM_BareIntegration 2.99 ms (150 ns a step); BM_Simulate/1000 3.67 ms (1.23x), /10 4.97 ms
-//   (1.66x), /1 19.3 ms (6.5x, 0.82 us of output a row); BM_CsvRows/25 19.0 ms (0.95 us a row of
-//   25 numbers formatted and written), /20 14.8 ms (0.74 us); BM_FormatRows/1/25 14.9 ms (0.75
-//   us, 30 ns a number), /1/20 11.9 ms, /0/25 (std::to_chars, the same bytes) 21.9 ms (1.10 us);
-//   BM_RecordRows 15.3 ms (0.77 us: the pendulum's row of 20 numbers with its diagnostics).
-// Before write_shortest and the row buffer (std::to_chars, one fwrite a row), the same command
-// on another run: BM_CsvRows (then 20 numbers) 25.4 ms, 1.27 us a row; BM_Simulate/1 29.8 ms
-// against 2.77 ms bare (10.8x).
-// What bounds --every 1: 4x the bare run leaves 3 x 2.99 = 9.0 ms for the 20001 rows (0.45 us a
-// row, 22 ns a number with nothing else done), and formatting their numbers alone takes 11.9 ms
-// (BM_FormatRows/1/20). The run's 19.3 ms: the integration (2.99), the recorded rows (15.3:
-// formatting 11.9, diagnostics and writing 3.4), the rest (1.0: the driver's samples, the
-// metadata, the commit).
+// (2 cores shared with other work, under the build lock; CPU-time medians of the 5 repetitions
+// interleaved at random). What bounds --every 1: 4x the bare run leaves 3 times the bare run's
+// time for the 20001 rows, and formatting their numbers alone (BM_FormatRows/1/20) takes more
+// than that; the rest of a recorded row (BM_RecordRows) is its diagnostics and the writing.
 #include <benchmark/benchmark.h>
 
 #include <unistd.h>
