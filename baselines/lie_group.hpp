@@ -82,7 +82,7 @@ Increment<Mech> vector_field(const Mech& mech, double t, const MechanicsState<Me
   mech.rates(y.config, y.w, rates);
   for (std::size_t i = 0; i < f.theta.size(); ++i) f.theta[i] = rates.Omega[i];
   f.x = rates.x_dot;
-  f.w = mech.acceleration(t, y.config, y.w);
+  f.w = acceleration_given_rates(mech, t, y.config, y.w, rates);
   return f;
 }
 

@@ -22,6 +22,10 @@
 // and optionally
 //   rates_are_velocities = true            w = (Omega_1..Omega_N, x'): analytic rate Jacobian
 //   velocity_jacobian(t, config, w)        d acceleration / dw, analytic (NW x NW)
+//   acceleration(t, config, w, rates)      w' given rates(config, w) already computed (the
+//                                          multibody momentum forms: their rates cost a
+//                                          factorization of the mass matrix); see
+//                                          acceleration_given_rates
 //   max_invariants, invariants(config, w, g), invariant_names()
 //                                          first integrals from the system's functions, kept by
 //                                          cvode-bdf-projected (baselines/projection.hpp): the
@@ -380,6 +384,10 @@ class CartPendulumMechanics {
   Velocity acceleration(double t, const Config& c, const Velocity& w) const {
     Rate r;
     rates(c, w, r);
+    return acceleration(t, c, w, r);
+  }
+  /// The same given r = rates(c, w) (one factorization of the mass matrix per evaluation).
+  Velocity acceleration(double t, const Config& c, const Velocity& w, const Rate& r) const {
     const Control u = control_ ? control_(t) : Control::Zero();
     Vec3 Pi_dot;
     Vec2 p_dot;
@@ -431,6 +439,10 @@ class ConnectedBodiesMechanics {
   Velocity acceleration(double t, const Config& c, const Velocity& w) const {
     Rate r;
     rates(c, w, r);
+    return acceleration(t, c, w, r);
+  }
+  /// The same given r = rates(c, w) (one factorization of the mass matrix per evaluation).
+  Velocity acceleration(double t, const Config& c, const Velocity& w, const Rate& r) const {
     const Control u = control_ ? control_(t) : Control::Zero();
     Vec3 Pi1_dot, Pi2_dot;
     system_.momentum_rate(c.R[0], c.R[1], r.Omega[0], r.Omega[1], w.head<3>(), w.tail<3>(), u, Pi1_dot, Pi2_dot);
@@ -458,6 +470,20 @@ static_assert(Mechanics<CartPendulumMechanics>);
 static_assert(Mechanics<ConnectedBodiesMechanics>);
 static_assert(SeparableMechanics<DumbbellMechanics> && !SeparableMechanics<CartPendulumMechanics> &&
               !SeparableMechanics<ConnectedBodiesMechanics>);
+
+/// w' at (t, c, w) given r = m.rates(c, w), the same as m.acceleration(t, c, w) to the bit:
+/// through the mechanics' acceleration(t, c, w, r) where it has one, so that an evaluation of the
+/// equations (a right-hand side, a Lie group method's stage) factors a multibody system's mass
+/// matrix once, not twice.
+template <Mechanics M>
+typename M::Velocity acceleration_given_rates(const M& m, double t, const typename M::Config& c,
+                                              const typename M::Velocity& w, const typename M::Rate& r) {
+  if constexpr (requires { { m.acceleration(t, c, w, r) } -> std::same_as<typename M::Velocity>; }) {
+    return m.acceleration(t, c, w, r);
+  } else {
+    return m.acceleration(t, c, w);
+  }
+}
 
 /// The state of a one-step method over continuous mechanics Mech (the Lie group methods of
 /// baselines/lie_group.hpp, the harness's one-step driver): the configuration (attitudes R_i,

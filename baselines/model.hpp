@@ -273,7 +273,7 @@ RhsStatus CoordinateOde<Chart, M>::rhs(double t, const double* y_ptr, double* yd
   mechanics_.rates(config, w, r);
   for (int i = 0; i < N; ++i) ydot.template segment<C>(C * i) = Chart::rate(y.template segment<C>(C * i), r.Omega[i]);
   ydot.template segment<NX>(kX) = r.x_dot;
-  ydot.template segment<NW>(kW) = mechanics_.acceleration(t, config, w);
+  ydot.template segment<NW>(kW) = acceleration_given_rates(mechanics_, t, config, w, r);
   return RhsStatus::Ok;
 }
 

@@ -10,6 +10,9 @@
 //   lgvi-minimal                       the floor: the same LGVI step (Cayley) written minimal
 //                                      (minimal_lgvi.hpp; test_minimal_lgvi.cpp checks it
 //                                      agrees with lgvi-cayley to round-off);
+//   (multibody) rk4-quaternion, rkmk4  their yardsticks: one RK4 step of the quaternion model in
+//                                      momentum form and one Lie group RK4 step of the same
+//                                      equations (register_momentum_form);
 //   lie-euler, rkmk2, rkmk4, cg3,      one step of each Lie group method (baselines/lie_group.hpp)
 //   cg4, cf4                           over the system's continuous mechanics, same state, same h;
 //   splitting-dlm, splitting-exact,    one step of each symplectic method (baselines/splitting.hpp),
@@ -41,6 +44,7 @@
 #include "baselines/lie_group.hpp"
 #include "baselines/splitting.hpp"
 #include "baselines/mechanics.hpp"
+#include "baselines/model.hpp"
 #include "lgvi/composition.hpp"
 #include "lgvi/lgvi.hpp"
 #include "lgvi/multibody_lgvi.hpp"
@@ -264,44 +268,88 @@ void register_dumbbell() {
   }
 }
 
+/// The yardsticks of a multibody system: one classical RK4 step of its quaternion model in
+/// momentum form (baselines/model.hpp CoordinateOde<QuaternionChart, Mech>: fixed-size state,
+/// the right-hand side the CVODE/odeint baselines integrate, one factorization of the mass matrix
+/// per evaluation, called directly, not through the Ode interface) as "rk4-quaternion", and one
+/// step of the Lie group RK4 (RKMK, classical tableau) over the same mechanics as "rkmk4"; from
+/// the LGVI's initial state, at its h. Uncontrolled, as the LGVI steps beside them.
+template <class Mech>
+void register_momentum_form(const std::string& system, const Mech& mech, const std::array<Mat3, Mech::bodies>& R,
+                            const std::array<Vec3, Mech::bodies>& Omega, const baselines::Vector<Mech::positions>& x,
+                            const baselines::Vector<Mech::positions>& x_dot, double h) {
+  using Model = baselines::CoordinateOde<baselines::QuaternionChart, Mech>;
+  register_step(system + "/rk4-quaternion", [=](benchmark::State& bench) {
+    const Model model(mech);
+    typename Model::State y = model.initial_state(R, Omega, x, x_dot);
+    typename Model::State k1, k2, k3, k4, stage;
+    double t = 0.0;
+    for (auto _ : bench) {
+      model.Model::rhs(t, y.data(), k1.data());
+      stage = y + (0.5 * h) * k1;
+      model.Model::rhs(t + 0.5 * h, stage.data(), k2.data());
+      stage = y + (0.5 * h) * k2;
+      model.Model::rhs(t + 0.5 * h, stage.data(), k3.data());
+      stage = y + h * k3;
+      model.Model::rhs(t + h, stage.data(), k4.data());
+      y += (h / 6.0) * (k1 + 2.0 * (k2 + k3) + k4);
+      t += h;
+      benchmark::DoNotOptimize(y);
+    }
+    bench.SetItemsProcessed(bench.iterations());
+  });
+  register_step(system + "/rkmk4", [=](benchmark::State& bench) {
+    baselines::MechanicsState<Mech> start;
+    start.config.R = R;
+    start.config.x = x;
+    start.w = mech.velocity_state(start.config, Omega, x_dot);
+    run_flow_steps(bench, lg::RkmkFlow<Mech, lg::ClassicalRk4Tableau>(mech), start, h);
+  });
+}
+
 void register_multibody() {
-  const auto cart_state = [](const CartPendulumLgvi& lgvi) {
-    return lgvi.make_state(so3::exp(Vec3(0.5, -0.3, 0.2)), Vec2(0.1, -0.2), Vec3(1.0, -0.5, 2.0),
-                           Vec2(0.3, 0.1));
-  };
+  // Shared by the LGVI, its reference and the yardsticks (which outlive this function's scope:
+  // the benchmarks run later).
+  static const CartPendulum cart = CartPendulum::paper();
+  static const ConnectedBodies bodies = ConnectedBodies::paper();
+  const Mat3 cart_R = so3::exp(Vec3(0.5, -0.3, 0.2));
+  const Vec2 cart_q(0.1, -0.2), cart_q_dot(0.3, 0.1);
+  const Vec3 cart_Omega(1.0, -0.5, 2.0);
+  const auto cart_state = [=](const CartPendulumLgvi& lgvi) { return lgvi.make_state(cart_R, cart_q, cart_Omega, cart_q_dot); };
   register_step("cart-pendulum/lgvi", [cart_state](benchmark::State& bench) {
-    const CartPendulum cart = CartPendulum::paper();
     const CartPendulumLgvi lgvi(cart);
     const Vec2 u = Vec2::Zero();
     run_steps(bench, cart_state(lgvi), [&](CartPendulumState& s) { return lgvi.step(s, 1e-3, u, u, s); });
   });
   register_step("cart-pendulum/reference", [cart_state](benchmark::State& bench) {
-    const CartPendulum cart = CartPendulum::paper();
     const CartPendulumLgvi lgvi(cart);
     const Vec2 u = Vec2::Zero();
     run_steps(bench, cart_state(lgvi), [&](CartPendulumState& s) {
       return reference::cart_pendulum_step(cart, LgviForm::Symmetric, {}, s, 1e-3, u, u, s);
     });
   });
-  const auto bodies_state = [](const ConnectedBodiesLgvi& lgvi) {
-    return lgvi.make_state(Mat3::Identity(), so3::exp(Vec3(0.3, 0.2, -0.1)), Vec3(0.5, -0.4, 0.3),
-                           Vec3(-0.2, 0.6, 0.1));
+  register_momentum_form("cart-pendulum", baselines::CartPendulumMechanics(cart), {cart_R}, {cart_Omega}, cart_q,
+                         cart_q_dot, 1e-3);
+  const Mat3 bodies_R1 = Mat3::Identity(), bodies_R2 = so3::exp(Vec3(0.3, 0.2, -0.1));
+  const Vec3 bodies_Omega1(0.5, -0.4, 0.3), bodies_Omega2(-0.2, 0.6, 0.1);
+  const auto bodies_state = [=](const ConnectedBodiesLgvi& lgvi) {
+    return lgvi.make_state(bodies_R1, bodies_R2, bodies_Omega1, bodies_Omega2);
   };
   register_step("connected-bodies/lgvi", [bodies_state](benchmark::State& bench) {
-    const ConnectedBodies bodies = ConnectedBodies::paper();
     const ConnectedBodiesLgvi lgvi(bodies);
     const Vec3 u = Vec3::Zero();
     run_steps(bench, bodies_state(lgvi),
               [&](ConnectedBodiesState& s) { return lgvi.step(s, 1e-2, u, u, s); });
   });
   register_step("connected-bodies/reference", [bodies_state](benchmark::State& bench) {
-    const ConnectedBodies bodies = ConnectedBodies::paper();
     const ConnectedBodiesLgvi lgvi(bodies);
     const Vec3 u = Vec3::Zero();
     run_steps(bench, bodies_state(lgvi), [&](ConnectedBodiesState& s) {
       return reference::connected_bodies_step(bodies, LgviForm::Symmetric, {}, s, 1e-2, u, u, s);
     });
   });
+  register_momentum_form("connected-bodies", baselines::ConnectedBodiesMechanics(bodies), {bodies_R1, bodies_R2},
+                         {bodies_Omega1, bodies_Omega2}, baselines::Vector<0>(), baselines::Vector<0>(), 1e-2);
 }
 
 /// One composed step (all substeps) of the pendulum LGVI.

@@ -133,6 +133,7 @@ class CommandLine {
   bool resume = false;
   std::string shard_text = "0/1";
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
+  unsigned timing_jobs = 0;  // 0: as --jobs
   std::string check_against;
 
   CLI::App* study_cmd = nullptr;
@@ -225,6 +226,10 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv, std::os
   suite_cmd->add_option("--jobs", jobs, "Cases run in parallel (default: hardware threads)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  suite_cmd->add_option("--timing-jobs", timing_jobs,
+                      "Timed cases measured at once, at most one per core (default: --jobs); 1 keeps a core for the rest of "
+                      "the machine: the most reproducible timings on a shared machine (docs/suites.md, Timing)")
+      ->check(CLI::PositiveNumber);
   suite_cmd->add_flag("--resume", resume,
                       "Continue the run in OUT (interrupted, killed): keep the finished cases whose files "
                       "verify, run the rest; the same suite, --quick, --shard and version only");
@@ -253,6 +258,10 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv, std::os
       ->capture_default_str();
   study_cmd->add_option("--jobs", jobs, "Cases run in parallel (default: hardware threads)")
       ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  study_cmd->add_option("--timing-jobs", timing_jobs,
+                      "Timed cases measured at once, at most one per core (default: --jobs); 1 keeps a core for the rest of "
+                      "the machine: the most reproducible timings on a shared machine (docs/suites.md, Timing)")
       ->check(CLI::PositiveNumber);
   study_cmd->add_flag("--resume", resume, "Continue the run in OUT: keep the finished cases whose files verify");
   study_cmd->add_flag("--render-only", render_only, "Only draw the figures and tables from OUT/summary.csv");
@@ -423,6 +432,7 @@ int CommandLine::run(std::ostream& out, std::ostream& err) {
     options.command_line = command_line;
     options.shard = shard;
     options.jobs = jobs;
+    options.timing_jobs = timing_jobs;
     if (render_only && resume) throw InvalidInput("--resume", "runs cases; --render-only runs none");
     options.resume = resume;
     if (render_only) {

@@ -1,6 +1,7 @@
 #include "experiments/suites/suite.hpp"
 
 #include <gsl/gsl_errno.h>
+#include <sched.h>
 #include <signal.h>
 #include <time.h>
 
@@ -186,39 +187,70 @@ class TimingRecord {
 
 }  // namespace
 
-std::vector<Timing> time_serially(const std::vector<std::function<TimedRun()>>& runs, const TimingPolicy& policy,
-                                  const std::function<void(std::size_t, std::size_t)>& progress) {
+std::vector<Timing> time_in_passes(const std::vector<std::function<TimedRun()>>& runs, const TimingPolicy& policy,
+                                   const std::function<void(std::size_t, std::size_t)>& progress) {
   using Clock = std::chrono::steady_clock;
   const std::size_t rounds = std::max<std::size_t>(1, policy.rounds);
   const std::size_t max_per_round = std::max<std::size_t>(1, policy.max_repetitions / rounds);
+  const std::size_t threads = std::max<std::size_t>(1, std::min(policy.threads, runs.size()));
   std::vector<TimingRecord> records(runs.size());
+  std::mutex progress_mutex;
   for (std::size_t round = 0; round < rounds; ++round) {
     // Each pass brings every computation's measured total to (round + 1) / rounds of the target.
     const double target = policy.min_measured_seconds * static_cast<double>(round + 1) / static_cast<double>(rounds);
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-      TimingRecord& rec = records[i];
-      if (!runs[i] || rec.failed()) continue;
-      const auto start = Clock::now();
-      std::size_t n = 0;
-      try {
-        do {
-          rec.add(runs[i]());
-          ++n;
-        } while (rec.measured() < target && n < max_per_round &&
-                 std::chrono::duration<double>(Clock::now() - start).count() <
-                     policy.max_elapsed_seconds / static_cast<double>(rounds));
-      } catch (const std::exception& e) {
-        rec.fail(e.what());
-      } catch (...) {
-        rec.fail("unknown exception");
+    std::atomic<std::size_t> next{0};
+    const auto time_the_rest_of_the_pass = [&] {
+      for (std::size_t i = next++; i < runs.size(); i = next++) {
+        TimingRecord& rec = records[i];
+        if (!runs[i] || rec.failed()) continue;
+        const auto start = Clock::now();
+        std::size_t n = 0;
+        try {
+          do {
+            rec.add(runs[i]());
+            ++n;
+          } while (rec.measured() < target && n < max_per_round &&
+                   std::chrono::duration<double>(Clock::now() - start).count() <
+                       policy.max_elapsed_seconds / static_cast<double>(rounds));
+        } catch (const std::exception& e) {
+          rec.fail(e.what());
+        } catch (...) {
+          rec.fail("unknown exception");
+        }
+        if (progress) {
+          const std::lock_guard lock(progress_mutex);
+          progress(round, i);
+        }
       }
-      if (progress) progress(round, i);
-    }
+    };
+    // The pass ends when every thread has ended it: passes never overlap.
+    std::vector<std::jthread> helpers;
+    for (std::size_t t = 1; t < threads; ++t) helpers.emplace_back(time_the_rest_of_the_pass);
+    time_the_rest_of_the_pass();
   }
   std::vector<Timing> out;
   out.reserve(records.size());
   for (const TimingRecord& r : records) out.push_back(r.timing());
   return out;
+}
+
+std::size_t timing_threads(unsigned jobs) {
+  std::size_t cores = 0;
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0) {
+    std::set<std::string> sibling_sets;  // one per core
+    for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+      if (!CPU_ISSET(cpu, &allowed)) continue;
+      std::ifstream in("/sys/devices/system/cpu/cpu" + std::to_string(cpu) + "/topology/thread_siblings_list");
+      std::string siblings;
+      if (!std::getline(in, siblings) || siblings.empty()) siblings = "cpu" + std::to_string(cpu);
+      sibling_sets.insert(siblings);
+    }
+    cores = sibling_sets.size();
+  }
+  if (cores == 0) cores = std::max(1u, std::thread::hardware_concurrency());
+  return std::max<std::size_t>(1, std::min<std::size_t>(jobs, cores));
 }
 
 namespace {
@@ -674,7 +706,7 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   }
   for (std::thread& t : pool) t.join();
 
-  // Timed cases on this thread with nothing else of the suite running (see the header): their
+  // Timed cases with nothing else of the suite running (see the header), one per core: their
   // cost is measured apart from the parallel runs above.
   std::vector<std::size_t> timed;  // positions in `todo`
   std::vector<std::function<TimedRun()>> timed_runs;
@@ -705,18 +737,35 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   }
   if (const int signo = interrupt_signal(); signo != 0) end_interrupted(signo);
   if (!timed.empty()) {
-    const TimingPolicy policy;
+    // The most expensive first (by their runs above), so that a pass on several threads ends
+    // soon after its longest case.
+    std::vector<std::size_t> order(timed.size());
+    for (std::size_t n = 0; n < order.size(); ++n) order[n] = n;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return outcomes[timed[a]].seconds > outcomes[timed[b]].seconds;
+    });
+    std::vector<std::size_t> timed_in_order;
+    std::vector<std::function<TimedRun()>> runs_in_order;
+    for (const std::size_t n : order) {
+      timed_in_order.push_back(timed[n]);
+      runs_in_order.push_back(std::move(timed_runs[n]));
+    }
+    timed = std::move(timed_in_order);
+    TimingPolicy policy;
+    policy.threads = timing_threads(options.timing_jobs != 0 ? options.timing_jobs : options.jobs);
     progress << "timing " << timed.size() << " case" << (timed.size() == 1 ? "" : "s") << " in " << policy.rounds
-             << " passes, one at a time (nothing else runs; each repeated until "
+             << " passes on " << policy.threads << " thread" << (policy.threads == 1 ? "" : "s")
+             << ", one case per thread (nothing else runs; each repeated until "
              << policy.min_measured_seconds * 1e3 << " ms are measured)\n"
              << std::flush;
     const auto timing_start = Clock::now();
+    std::size_t done = 0;
     std::size_t last_reported = 0;
     const std::vector<Timing> timings =
-        time_serially(timed_runs, policy, [&](std::size_t round, std::size_t i) {
+        time_in_passes(runs_in_order, policy, [&](std::size_t, std::size_t) {
           if (const int signo = interrupt_signal(); signo != 0) end_interrupted(signo);
           // One progress line per pass and per tenth of it.
-          const std::size_t done = round * timed.size() + i + 1;
+          ++done;
           const std::size_t all = policy.rounds * timed.size();
           if (done != all && done * 10 / all == last_reported * 10 / all) return;
           last_reported = done;

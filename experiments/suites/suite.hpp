@@ -19,12 +19,14 @@
 //
 // Timing: a case whose cost is a result (Job::timed(): the work-precision and long-horizon
 // cases) runs like any other in the pool of `--jobs` threads, which writes its files. Once every
-// case has run, the harness times the timed cases on one thread with nothing else of the suite
-// running (time_serially, TimingPolicy): each case's bare computation (Job::prepare_timing,
-// nothing written) in 3 passes over all timed cases, repeated within a pass until 20 ms / 3 are
-// measured, reporting the minimum per run of the wall time (steady_clock) and of the thread CPU
-// time (Job::timing_fields). Timed in parallel by one clock-read pair, the same case's time
-// varied by up to 61x between runs; see experiments/benchmarks/timing_stability.py and docs/suites.md (Timing).
+// case has run, the harness times the timed cases with nothing else of the suite running, one
+// case per thread and at most one thread per core (time_in_passes, TimingPolicy,
+// timing_threads): each case's bare computation (Job::prepare_timing, nothing written) in 3
+// passes over all timed cases, repeated within a pass until 20 ms / 3 are measured, reporting the
+// minimum per run of the wall time (steady_clock) and of the thread CPU time
+// (Job::timing_fields). Timed in parallel with the other cases' runs by one clock-read pair, the
+// same case's time varied by up to 61x between runs; see experiments/benchmarks/timing_stability.py
+// and docs/suites.md (Timing).
 //
 // Sharding: `--shard i/N` (0 <= i < N) takes the i-th of N contiguous blocks of the case list
 // (block sizes differ by at most one), so the shards are disjoint, their union is the suite and
@@ -90,12 +92,24 @@ struct TimedRun {
 /// counted part is nearly nothing). A run longer than 20 ms is thus timed once per pass, and a
 /// disturbance of the machine (measured: stretches of a second or more in which everything runs
 /// ~1.5x slower, CPU time included) spoils at most one pass.
+/// `threads` computations are timed at once, each on its own thread, in the order given (the
+/// caller puts the most expensive first); a pass ends when all of its computations have ended, so
+/// passes never overlap. Only as many threads as the machine has cores (timing_threads): two
+/// threads sharing a core (SMT) slow each other down, while on separate cores two copies of the
+/// step benchmark ran within 3% of one alone (CPU time; docs/suites.md, Timing).
 struct TimingPolicy {
   double min_measured_seconds = 0.02;
   std::size_t rounds = 3;
   std::size_t max_repetitions = 100000;
   double max_elapsed_seconds = 0.5;
+  std::size_t threads = 1;
 };
+
+/// Threads for timing when `jobs` are asked for: at most one per core this process may run on
+/// (hardware threads sharing a core, listed in Linux's
+/// /sys/devices/system/cpu/cpuN/topology/thread_siblings_list, count once; where that cannot be
+/// read, every hardware thread counts as a core), at least 1.
+std::size_t timing_threads(unsigned jobs);
 
 /// What the repetitions of one computation measured, counted part only (TimedRun minus its
 /// uncounted part): the minimum wall time (the run least disturbed by the rest of the machine),
@@ -111,11 +125,12 @@ struct Timing {
   std::string error;  ///< the computation threw (its message): it was not run again
 };
 
-/// Times each computation of `runs` as `policy` says, in turn on the calling thread; calls
-/// `progress(round, index)` after each computation of each round (may be empty). Returns one
-/// Timing per computation (empty computations: repetitions = 0; one that threw: its error).
-std::vector<Timing> time_serially(const std::vector<std::function<TimedRun()>>& runs, const TimingPolicy& policy,
-                                  const std::function<void(std::size_t, std::size_t)>& progress = {});
+/// Times each computation of `runs` as `policy` says (on the calling thread when policy.threads
+/// is 1); calls `progress(round, index)` after each computation of each round, one call at a
+/// time (may be empty). Returns one Timing per computation (empty computations: repetitions = 0;
+/// one that threw: its error).
+std::vector<Timing> time_in_passes(const std::vector<std::function<TimedRun()>>& runs, const TimingPolicy& policy,
+                                   const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 /// CPU time consumed by the calling thread (clock_gettime(CLOCK_THREAD_CPUTIME_ID)), seconds.
 double thread_cpu_seconds();
@@ -257,6 +272,8 @@ struct SuiteOptions {
   std::string command_line;
   Shard shard;
   unsigned jobs = 1;  ///< worker threads (>= 1)
+  /// Timed cases measured at once (0: as jobs), at most one per core (timing_threads).
+  unsigned timing_jobs = 0;
   bool quick = false;  ///< the suite's form, recorded in summary.jsonl
   /// Keep the cases OUT's journal records as finished whose files verify (same suite, form,
   /// version, fingerprint and shard; see suite_journal.hpp) and run the others.

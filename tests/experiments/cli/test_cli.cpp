@@ -120,6 +120,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadArgs{"shard_not_a_fraction", {"suite", "extremes", "--shard", "1-2", "--list"}, {"--shard", "1-2"}},
         BadArgs{"shard_negative", {"suite", "extremes", "--shard", "-1/2", "--list"}, {"--shard", "-1/2"}},
         BadArgs{"jobs_zero", {"suite", "extremes", "--quick", "--jobs", "0", "--out", "res"}, {"--jobs"}},
+        BadArgs{"timing_jobs_zero", {"suite", "work-precision", "--quick", "--timing-jobs", "0", "--out", "res"}, {"--timing-jobs"}},
         BadArgs{"composed_lgvi_with_model", {"simulate", "pendulum", "--method", "lgvi-yoshida4", "--model", "matrix"},
                 {"model", "no coordinate model"}},
         BadArgs{"unknown_composition", {"simulate", "pendulum", "--method", "lgvi-yoshida5"},

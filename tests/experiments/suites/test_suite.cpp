@@ -953,7 +953,7 @@ TEST(SuiteTiming, PassesInterleaveTheComputationsAndRepeatShortOnesUntil20msAreM
   };
   std::vector<std::pair<std::size_t, std::size_t>> order;
   const experiments::TimingPolicy policy;  // 20 ms in 3 passes
-  const auto t = experiments::time_serially(
+  const auto t = experiments::time_in_passes(
       runs, policy, [&](std::size_t round, std::size_t i) { order.emplace_back(round, i); });
   ASSERT_EQ(t.size(), 4u);
   // Passes over all computations, not one computation at a stretch: a slow spell of the machine
@@ -976,6 +976,60 @@ TEST(SuiteTiming, PassesInterleaveTheComputationsAndRepeatShortOnesUntil20msAreM
   EXPECT_TRUE(t[0].error.empty());
 }
 
+TEST(SuiteTiming, ThreadsTimeOneComputationEachAndPassesNeverOverlap) {
+  // 6 computations on 2 threads: each waits (up to 2 s) until two of its pass run at once, so
+  // the pool must run two at a time; none may see a third, and none may start before every
+  // computation of the previous pass has ended.
+  constexpr int kRuns = 6;
+  std::mutex m;
+  int running = 0;
+  int most_running = 0;
+  int started_early = 0;
+  std::vector<int> ended_in_pass(3, 0);
+  std::vector<int> calls(static_cast<std::size_t>(kRuns), 0);
+  std::vector<std::function<experiments::TimedRun()>> runs;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(kRuns); ++i) {
+    runs.push_back([&, i] {
+      int pass = 0;
+      {
+        const std::lock_guard lock(m);
+        pass = calls[i]++;
+        for (int p = 0; p < pass; ++p) started_early += ended_in_pass[static_cast<std::size_t>(p)] != kRuns;
+        most_running = std::max(most_running, ++running);
+      }
+      const auto start = std::chrono::steady_clock::now();
+      for (;;) {
+        {
+          const std::lock_guard lock(m);
+          if (most_running >= 2) break;
+        }
+        if (std::chrono::steady_clock::now() - start > std::chrono::seconds(2)) break;
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+      }
+      const std::lock_guard lock(m);
+      --running;
+      ++ended_in_pass[static_cast<std::size_t>(pass)];
+      return experiments::TimedRun{0.1, 0.1, 0.0};  // longer than 20 ms: once per pass
+    });
+  }
+  experiments::TimingPolicy policy;
+  policy.threads = 2;
+  std::size_t progress_calls = 0;
+  const auto t = experiments::time_in_passes(runs, policy, [&](std::size_t, std::size_t) { ++progress_calls; });
+  EXPECT_EQ(most_running, 2);
+  EXPECT_EQ(started_early, 0);
+  EXPECT_EQ(ended_in_pass, (std::vector<int>{kRuns, kRuns, kRuns}));
+  EXPECT_EQ(progress_calls, 3u * kRuns);
+  for (const experiments::Timing& x : t) EXPECT_EQ(x.repetitions, 3u);
+}
+
+TEST(SuiteTiming, TimingThreadsAreAtMostTheJobsAndAtLeastOne) {
+  EXPECT_EQ(experiments::timing_threads(1), 1u);
+  EXPECT_EQ(experiments::timing_threads(0), 1u);
+  EXPECT_LE(experiments::timing_threads(1000), std::max(1u, std::thread::hardware_concurrency()));
+  EXPECT_GE(experiments::timing_threads(1000), 1u);
+}
+
 /// A timed toy case: run() takes a few milliseconds; its timed computation checks that it runs
 /// after every case's run() and alone.
 class TimedToyJob final : public experiments::Job {
@@ -986,6 +1040,7 @@ class TimedToyJob final : public experiments::Job {
     std::atomic<int> timing{0};    // timed computations in progress
     std::atomic<int> violations{0};
     int total = 0;
+    int timing_limit = 1;  // computations timed at once
   };
   TimedToyJob(Shared& shared, bool timed) : shared_(shared), timed_(timed) {}
   void validate(const fs::path&) const override {}
@@ -1000,7 +1055,7 @@ class TimedToyJob final : public experiments::Job {
   std::function<experiments::TimedRun()> prepare_timing(const experiments::JobContext&,
                                                         const experiments::JobResult&) const override {
     return [this] {
-      if (shared_.running != 0 || shared_.finished != shared_.total || ++shared_.timing != 1) ++shared_.violations;
+      if (shared_.running != 0 || shared_.finished != shared_.total || ++shared_.timing > shared_.timing_limit) ++shared_.violations;
       const auto start = std::chrono::steady_clock::now();
       const double cpu = experiments::thread_cpu_seconds();
       while (std::chrono::steady_clock::now() - start < std::chrono::microseconds(500)) {
@@ -1020,7 +1075,7 @@ class TimedToyJob final : public experiments::Job {
   bool timed_;
 };
 
-TEST(SuiteTiming, TimedCasesAreTimedAfterEveryCaseHasRunAndOneAtATime) {
+TEST(SuiteTiming, TimedCasesAreTimedAfterEveryCaseHasRunAndAtMostOnePerCore) {
   TempDir dir;
   TimedToyJob::Shared shared;
   Suite s;
@@ -1031,6 +1086,7 @@ TEST(SuiteTiming, TimedCasesAreTimedAfterEveryCaseHasRunAndOneAtATime) {
                        std::make_shared<TimedToyJob>(shared, i % 2 == 0)});
   }
   shared.total = static_cast<int>(s.cases.size());
+  shared.timing_limit = static_cast<int>(experiments::timing_threads(3));
   experiments::SuiteOptions options;
   options.out_dir = dir.work() / "res";
   options.jobs = 3;
@@ -1050,6 +1106,16 @@ TEST(SuiteTiming, TimedCasesAreTimedAfterEveryCaseHasRunAndOneAtATime) {
     }
   }
   EXPECT_NE(progress.str().find("timing 4 cases"), std::string::npos) << progress.str();
+
+  // --timing-jobs 1: one at a time, whatever the jobs.
+  shared.finished = 0;
+  shared.timing_limit = 1;
+  options.out_dir = dir.work() / "serial";
+  options.timing_jobs = 1;
+  std::ostringstream serial;
+  EXPECT_TRUE(experiments::run_suite(s, options, serial).all_ok());
+  EXPECT_EQ(shared.violations, 0);
+  EXPECT_NE(serial.str().find("timing 4 cases in 3 passes on 1 thread,"), std::string::npos) << serial.str();
 }
 
 TEST(SuiteJobs, FinalStateErrorIsTheLargestRelativeDifference) {
