@@ -5,8 +5,8 @@
 // with the steps: one byte a step is 10 MB at 10^7 steps) shows beside the conservation it
 // must not cost.
 //
-// Memory is measured where nothing else of the suite runs: in the harness's serial timing pass
-// (Job::timed, suite.hpp), whose runs repeat the case's integration with a recorder that writes
+// Memory is measured where nothing else of the suite runs: in the harness's timing passes, one
+// case at a time (Job::timed, Job::timed_alone, suite.hpp), whose runs repeat the case's integration with a recorder that writes
 // nothing. Before each repetition the peak resident size (VmHWM) is reset to the current one
 // (reset_peak_resident); after it, the peak is read. Reported: the resident size before the
 // run, the peak during it and their difference (the memory the run needed; flat in the steps
@@ -46,6 +46,7 @@ class SoakJob final : public Job {
   void validate(const fs::path& scenes_dir) const override { inner_->validate(scenes_dir); }
   JobResult run(const JobContext& ctx) const override { return inner_->run(ctx); }
   bool timed() const override { return true; }
+  bool timed_alone() const override { return true; }  // the process's memory
   double expected_cost(const fs::path& scenes_dir) const override { return inner_->expected_cost(scenes_dir); }
 
   std::function<TimedRun()> prepare_timing(const JobContext& ctx, const JobResult& result) const override {

@@ -737,44 +737,51 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
   }
   if (const int signo = interrupt_signal(); signo != 0) end_interrupted(signo);
   if (!timed.empty()) {
-    // The most expensive first (by their runs above), so that a pass on several threads ends
-    // soon after its longest case.
+    // Those timed alone (Job::timed_alone) last; the others the most expensive first (by their
+    // runs above), so that a pass on several threads ends soon after its longest case.
     std::vector<std::size_t> order(timed.size());
     for (std::size_t n = 0; n < order.size(); ++n) order[n] = n;
+    const auto alone = [&](std::size_t n) { return suite.cases[todo[timed[n]]].job->timed_alone(); };
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      if (alone(a) != alone(b)) return alone(b);
       return outcomes[timed[a]].seconds > outcomes[timed[b]].seconds;
     });
+    const auto first_alone = static_cast<std::size_t>(
+        std::find_if(order.begin(), order.end(), [&](std::size_t n) { return alone(n); }) - order.begin());
     std::vector<std::size_t> timed_in_order;
-    std::vector<std::function<TimedRun()>> runs_in_order;
-    for (const std::size_t n : order) {
-      timed_in_order.push_back(timed[n]);
-      runs_in_order.push_back(std::move(timed_runs[n]));
+    std::vector<std::function<TimedRun()>> shared_runs, alone_runs;
+    for (std::size_t m = 0; m < order.size(); ++m) {
+      timed_in_order.push_back(timed[order[m]]);
+      (m < first_alone ? shared_runs : alone_runs).push_back(std::move(timed_runs[order[m]]));
     }
     timed = std::move(timed_in_order);
     TimingPolicy policy;
     policy.threads = timing_threads(options.timing_jobs != 0 ? options.timing_jobs : options.jobs);
     progress << "timing " << timed.size() << " case" << (timed.size() == 1 ? "" : "s") << " in " << policy.rounds
              << " passes on " << policy.threads << " thread" << (policy.threads == 1 ? "" : "s")
-             << ", one case per thread (nothing else runs; each repeated until "
-             << policy.min_measured_seconds * 1e3 << " ms are measured)\n"
+             << ", one case per thread" << (alone_runs.empty() ? "" : " (" + std::to_string(alone_runs.size()) + " alone)")
+             << " (nothing else runs; each repeated until " << policy.min_measured_seconds * 1e3
+             << " ms are measured)\n"
              << std::flush;
     const auto timing_start = Clock::now();
     std::size_t done = 0;
     std::size_t last_reported = 0;
-    const std::vector<Timing> timings =
-        time_in_passes(runs_in_order, policy, [&](std::size_t, std::size_t) {
-          if (const int signo = interrupt_signal(); signo != 0) end_interrupted(signo);
-          // One progress line per pass and per tenth of it.
-          ++done;
-          const std::size_t all = policy.rounds * timed.size();
-          if (done != all && done * 10 / all == last_reported * 10 / all) return;
-          last_reported = done;
-          const double elapsed = std::chrono::duration<double>(Clock::now() - timing_start).count();
-          progress << "[timing " << done << "/" << all << "] " << format_duration(elapsed) << " elapsed, ~"
-                   << format_duration(elapsed / static_cast<double>(done) * static_cast<double>(all - done))
-                   << " left\n"
-                   << std::flush;
-        });
+    const auto report = [&](std::size_t, std::size_t) {
+      if (const int signo = interrupt_signal(); signo != 0) end_interrupted(signo);
+      // One progress line per pass and per tenth of it.
+      ++done;
+      const std::size_t all = policy.rounds * timed.size();
+      if (done != all && done * 10 / all == last_reported * 10 / all) return;
+      last_reported = done;
+      const double elapsed = std::chrono::duration<double>(Clock::now() - timing_start).count();
+      progress << "[timing " << done << "/" << all << "] " << format_duration(elapsed) << " elapsed, ~"
+               << format_duration(elapsed / static_cast<double>(done) * static_cast<double>(all - done)) << " left\n"
+               << std::flush;
+    };
+    std::vector<Timing> timings = time_in_passes(shared_runs, policy, report);
+    TimingPolicy one_at_a_time = policy;
+    one_at_a_time.threads = 1;
+    for (Timing& t : time_in_passes(alone_runs, one_at_a_time, report)) timings.push_back(std::move(t));
     for (std::size_t n = 0; n < timed.size(); ++n) {
       const SuiteCase& c = suite.cases[todo[timed[n]]];
       CaseOutcome& o = outcomes[timed[n]];

@@ -149,6 +149,9 @@ class Job {
   /// True for a case whose cost is a result (work-precision): after every case of the shard has
   /// run, the harness times it with nothing else of the suite running (see the header).
   virtual bool timed() const { return false; }
+  /// Timed jobs that measure the whole process (the soak's resident memory): timed after the
+  /// others, one at a time, whatever --timing-jobs says.
+  virtual bool timed_alone() const { return false; }
   /// Timed jobs: the case's computation prepared for timing (inputs loaded), as a function that
   /// runs it once without writing anything and returns what it measured; empty when there is
   /// nothing to time (e.g. the run was rejected). `result` is this case's run() result. Called

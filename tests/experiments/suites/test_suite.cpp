@@ -1041,8 +1041,9 @@ class TimedToyJob final : public experiments::Job {
     std::atomic<int> violations{0};
     int total = 0;
     int timing_limit = 1;  // computations timed at once
+    std::atomic<int> alone_timing{0};  // timed-alone computations in progress
   };
-  TimedToyJob(Shared& shared, bool timed) : shared_(shared), timed_(timed) {}
+  TimedToyJob(Shared& shared, bool timed, bool alone = false) : shared_(shared), timed_(timed), alone_(alone) {}
   void validate(const fs::path&) const override {}
   experiments::JobResult run(const experiments::JobContext&) const override {
     ++shared_.running;
@@ -1052,10 +1053,16 @@ class TimedToyJob final : public experiments::Job {
     return {true, "completed", "slept", {}};
   }
   bool timed() const override { return timed_; }
+  bool timed_alone() const override { return alone_; }
   std::function<experiments::TimedRun()> prepare_timing(const experiments::JobContext&,
                                                         const experiments::JobResult&) const override {
     return [this] {
-      if (shared_.running != 0 || shared_.finished != shared_.total || ++shared_.timing > shared_.timing_limit) ++shared_.violations;
+      if (alone_) ++shared_.alone_timing;
+      const int at_once = ++shared_.timing;
+      if (shared_.running != 0 || shared_.finished != shared_.total || at_once > shared_.timing_limit ||
+          (shared_.alone_timing != 0 && at_once != 1)) {
+        ++shared_.violations;
+      }
       const auto start = std::chrono::steady_clock::now();
       const double cpu = experiments::thread_cpu_seconds();
       while (std::chrono::steady_clock::now() - start < std::chrono::microseconds(500)) {
@@ -1063,6 +1070,7 @@ class TimedToyJob final : public experiments::Job {
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const double cpu_used = experiments::thread_cpu_seconds() - cpu;
       --shared_.timing;
+      if (alone_) --shared_.alone_timing;
       return experiments::TimedRun{wall, cpu_used, 0.0};
     };
   }
@@ -1073,17 +1081,19 @@ class TimedToyJob final : public experiments::Job {
  private:
   Shared& shared_;
   bool timed_;
+  bool alone_;
 };
 
-TEST(SuiteTiming, TimedCasesAreTimedAfterEveryCaseHasRunAndAtMostOnePerCore) {
+TEST(SuiteTiming, TimedCasesAreTimedAfterEveryCaseHasRunAtMostOnePerCoreAndSomeAlone) {
   TempDir dir;
   TimedToyJob::Shared shared;
   Suite s;
   s.name = "toy";
   s.columns = {"seconds_min", "repetitions"};
   for (int i = 0; i < 8; ++i) {
+    // Case 4 measures the whole process (as the soak's memory): timed alone.
     s.cases.push_back({"case" + std::to_string(i), "toy", {}, Expectation::Complete,
-                       std::make_shared<TimedToyJob>(shared, i % 2 == 0)});
+                       std::make_shared<TimedToyJob>(shared, i % 2 == 0, i == 4)});
   }
   shared.total = static_cast<int>(s.cases.size());
   shared.timing_limit = static_cast<int>(experiments::timing_threads(3));
@@ -1106,6 +1116,7 @@ TEST(SuiteTiming, TimedCasesAreTimedAfterEveryCaseHasRunAndAtMostOnePerCore) {
     }
   }
   EXPECT_NE(progress.str().find("timing 4 cases"), std::string::npos) << progress.str();
+  EXPECT_NE(progress.str().find("(1 alone)"), std::string::npos) << progress.str();
 
   // --timing-jobs 1: one at a time, whatever the jobs.
   shared.finished = 0;
