@@ -25,10 +25,13 @@ const char* to_string(RotationUpdateStatus s) {
 std::string RotationUpdateSummary::brief() const {
   char buf[256];
   if (status == RotationUpdateStatus::OutsideDomain && axis_ratio > 1.0) {
+    // The axis named by its moment: "axis 2" read as the body's e2 (it is not, unless J is
+    // diagonal with increasing moments).
+    static constexpr const char* kMoment[] = {"smallest", "middle", "largest"};
     std::snprintf(buf, sizeof buf,
-                  "%s: no rotation solves the update: |(h p)_i| / J_i = %.6g > 1 about principal axis %d "
-                  "(h |Omega_i| too large; the step must shrink by this factor at least)",
-                  to_string(status), axis_ratio, axis + 1);
+                  "%s: no rotation solves the update: |(h p)_i| / J_i = %.6g > 1 about the principal axis of the "
+                  "%s moment of inertia (h |Omega_i| too large; the step must shrink by this factor at least)",
+                  to_string(status), axis_ratio, axis >= 0 && axis < 3 ? kMoment[axis] : "unknown");
     return buf;
   }
   if (status == RotationUpdateStatus::OutsideDomain) {

@@ -178,16 +178,12 @@ class ModelProbe final : public baselines::Ode {
   bool renormalizes_;
 };
 
-/// The baseline `info` with options: a coordinate model (required), tolerances (adaptive only).
+/// The baseline `info` with options: a coordinate model (default: quaternion, as in study files),
+/// tolerances (adaptive only).
 std::unique_ptr<Method> make_baseline(const baselines::SolverInfo& info, const MethodOptions& options) {
   const std::string& name = info.name;
   if (options.rotation_update) throw InvalidInput("rotation_update", name + " has no rotation update (LGVI only)");
-  if (!options.model) {
-    std::string known;
-    for (const std::string& n : baselines::coordinate_model_names()) known += (known.empty() ? "" : "|") + n;
-    throw InvalidInput("model", name + " needs a coordinate model (--model " + known + ")");
-  }
-  const CoordinateModel model = baselines::parse_coordinate_model(*options.model);
+  const CoordinateModel model = baselines::parse_coordinate_model(options.model.value_or("quaternion"));
   SolverSettings settings;
   settings.rtol = options.rtol;
   settings.atol = options.atol;

@@ -113,8 +113,8 @@ def test_make_scene_is_the_scene_file_and_names_bad_fields():
         lgvi.simulate(made, method="no-such-method")
     with pytest.raises(ValueError, match="csv"):
         lgvi.simulate(made, csv="-")
-    with pytest.raises(ValueError, match="model"):
-        lgvi.simulate(made, method="cvode-bdf")  # a baseline needs a coordinate model
+    # A baseline without a model runs the quaternion model (as a study file's entry does).
+    assert lgvi.simulate(made, method="cvode-bdf")["summary"]["model"] == "quaternion"
     assert "free-body" in lgvi.scene_names()
 
 

@@ -4,6 +4,7 @@
 // exit 2 with the CSV of the samples before the stop.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <numbers>
@@ -20,7 +21,6 @@ TEST(CliBaselines, BadCombinationsAreOneLineErrors) {
   const std::vector<std::pair<std::vector<std::string>, std::vector<std::string>>> cases = {
       {{"--method", "rk45", "--model", "quaternion"}, {"method", "unknown method 'rk45'", "cvode-bdf", "lgvi"}},
       {{"--method", "cvode-bdf", "--model", "rodrigues"}, {"model", "unknown model 'rodrigues'", "euler"}},
-      {{"--method", "cvode-bdf"}, {"model", "cvode-bdf needs a coordinate model"}},
       {{"--method", "odeint-rk4", "--model", "euler", "--rtol", "1e-8"}, {"rtol", "fixed-step method"}},
       {{"--method", "gsl-rk8pd", "--model", "euler", "--atol", "-1"}, {"--atol", "[1e-14, 0.1] (got -1)"}},
       {{"--model", "quaternion"}, {"model", "LGVI"}},
@@ -78,6 +78,28 @@ TEST(CliBaselines, WritesTheLgviColumnsOnTheLgviGrid) {
         }
         EXPECT_LT(csv.rows[k][csv.column("orthogonality_error")], 1e-7);
       }
+    }
+  }
+}
+
+TEST(CliBaselines, WithoutAModelABaselineRunsTheQuaternionModel) {
+  // As a study file's method entry: the same run, row for row, as --model quaternion.
+  TempDir dir;
+  const CliResult implicit = run_testbed(dir, {"simulate", "pendulum", "--t-final", "0.05", "--method", "gsl-rk8pd",
+                                               "--out", "implicit.csv"});
+  ASSERT_EQ(implicit.exit_code, 0) << implicit.err;
+  const CliResult explicit_model = run_testbed(dir, {"simulate", "pendulum", "--t-final", "0.05", "--method",
+                                                     "gsl-rk8pd", "--model", "quaternion", "--out", "explicit.csv"});
+  ASSERT_EQ(explicit_model.exit_code, 0) << explicit_model.err;
+  const CsvParts a = read_csv(dir.work() / "implicit.csv"), b = read_csv(dir.work() / "explicit.csv");
+  EXPECT_EQ(a.meta("model"), "quaternion");
+  EXPECT_EQ(a.header, b.header);
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (std::size_t k = 0; k < a.rows.size(); ++k) {
+    ASSERT_EQ(a.rows[k].size(), b.rows[k].size());
+    for (std::size_t j = 0; j < a.rows[k].size(); ++j) {
+      const double x = a.rows[k][j], y = b.rows[k][j];
+      EXPECT_TRUE(x == y || (std::isnan(x) && std::isnan(y))) << "row " << k << ", " << a.header[j];
     }
   }
 }
