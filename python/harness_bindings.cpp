@@ -603,6 +603,8 @@ py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
 }  // namespace
 
 void bind_harness(py::module_& m) {
+  // The project's version (CMake's PROJECT_VERSION), as every summary and CSV records it.
+  m.attr("__version__") = ex::version();
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

@@ -6,6 +6,7 @@ Run through ctest (python_tests): PYTHONPATH, LGVI_TESTBED_EXE and LGVI_SOURCE_D
 """
 import json
 import os
+import re
 import runpy
 import subprocess
 
@@ -38,6 +39,7 @@ def test_load_scene_and_simulate_returns_arrays_and_a_summary_that_agrees():
     assert np.array_equal(run["t"], run["columns"]["t"])
     s = run["summary"]
     assert s["status"] == "completed" and s["method"] == "lgvi" and s["output_rows"] == n
+    assert lgvi.__version__ == s["version"] and re.fullmatch(r"\d+\.\d+\.\d+", lgvi.__version__)
     # The summary's diagnostics are maxima over the returned rows: computed from the same doubles
     # (the CSV holds them in round-trip form), so they agree exactly.
     E = run["columns"]["energy"]
