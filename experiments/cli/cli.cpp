@@ -40,6 +40,11 @@ int report(std::ostream& err, const std::string& message, int code) {
   return code;
 }
 
+/// The help of suite's and study's --timing-jobs.
+constexpr const char* kTimingJobsHelp =
+    "Timed cases measured at once, at most one per core (default: --jobs); 1 keeps a core for the rest of the "
+    "machine: the most reproducible timings on a shared machine (docs/suites.md, Timing)";
+
 /// Parses --form, naming the option in the error.
 LgviForm parse_form_option(const std::string& text) {
   try {
@@ -227,8 +232,7 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv, std::os
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   suite_cmd->add_option("--timing-jobs", timing_jobs,
-                      "Timed cases measured at once, at most one per core (default: --jobs); 1 keeps a core for the rest of "
-                      "the machine: the most reproducible timings on a shared machine (docs/suites.md, Timing)")
+                      kTimingJobsHelp)
       ->check(CLI::PositiveNumber);
   suite_cmd->add_flag("--resume", resume,
                       "Continue the run in OUT (interrupted, killed): keep the finished cases whose files "
@@ -260,8 +264,7 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv, std::os
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   study_cmd->add_option("--timing-jobs", timing_jobs,
-                      "Timed cases measured at once, at most one per core (default: --jobs); 1 keeps a core for the rest of "
-                      "the machine: the most reproducible timings on a shared machine (docs/suites.md, Timing)")
+                      kTimingJobsHelp)
       ->check(CLI::PositiveNumber);
   study_cmd->add_flag("--resume", resume, "Continue the run in OUT: keep the finished cases whose files verify");
   study_cmd->add_flag("--render-only", render_only, "Only draw the figures and tables from OUT/summary.csv");

@@ -178,12 +178,12 @@ class ModelProbe final : public baselines::Ode {
   bool renormalizes_;
 };
 
-/// The baseline `info` with options: a coordinate model (default: quaternion, as in study files),
+/// The baseline `info` with options: a coordinate model (default kDefaultCoordinateModel),
 /// tolerances (adaptive only).
 std::unique_ptr<Method> make_baseline(const baselines::SolverInfo& info, const MethodOptions& options) {
   const std::string& name = info.name;
   if (options.rotation_update) throw InvalidInput("rotation_update", name + " has no rotation update (LGVI only)");
-  const CoordinateModel model = baselines::parse_coordinate_model(options.model.value_or("quaternion"));
+  const CoordinateModel model = baselines::parse_coordinate_model(options.model.value_or(kDefaultCoordinateModel));
   SolverSettings settings;
   settings.rtol = options.rtol;
   settings.atol = options.atol;

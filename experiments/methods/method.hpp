@@ -38,10 +38,13 @@ class Method {
   virtual bool records_quaternion_norm() const { return false; }
 };
 
+/// The coordinate model a baseline runs when none is named (simulate, Python, study files).
+inline constexpr const char* kDefaultCoordinateModel = "quaternion";
+
 /// Options of the continuous-time baselines (experiments/methods/baseline_method.cpp); the LGVI takes
-/// none. model: quaternion | quaternion-renormalized | euler | matrix (required by the
-/// baselines); rtol, atol: adaptive baselines only (default 1e-6, atol = rtol). Fixed-step
-/// baselines step with the scene's h.
+/// none. model: quaternion | quaternion-renormalized | euler | matrix (the baselines';
+/// kDefaultCoordinateModel when not given); rtol, atol: adaptive baselines only (default 1e-6,
+/// atol = rtol). Fixed-step baselines step with the scene's h.
 struct MethodOptions {
   std::optional<std::string> model;
   std::optional<double> rtol;

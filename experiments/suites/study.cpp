@@ -145,7 +145,7 @@ FixedSweep read_fixed_sweep(const StudyReader& r, const toml::node* h, const std
   return s;
 }
 
-/// A method by name with an optional model (a baseline's defaults to quaternion), checked by
+/// A method by name with an optional model (a baseline's defaults to kDefaultCoordinateModel), checked by
 /// building it; errors name name_field or model_field.
 MethodSpec make_study_method(const StudyReader& r, const std::string& name, const std::string& name_field,
                              std::optional<std::string> model, const std::string& model_field) {
@@ -155,7 +155,7 @@ MethodSpec make_study_method(const StudyReader& r, const std::string& name, cons
   } catch (const InvalidInput& e) {
     r.fail(name_field, reason_of(e));
   }
-  if (!model && !info->on_group()) model = "quaternion";
+  if (!model && !info->on_group()) model = kDefaultCoordinateModel;  // named in the case ids
   MethodSpec spec(name, model);
   MethodOptions check = spec.options();
   if (!info->fixed_step()) check.rtol = 1e-6;
