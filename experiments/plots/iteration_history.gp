@@ -9,18 +9,32 @@
 #   n = 2
 #   array file[n]; array label[n]
 #   file[1] = "a-history.csv"; label[1] = "discrete, decomposed (pendulum)"
+#   array colour[n]; array point[n]; array dash[n]      (optional: the curves' styles)
+#   colour[1] = "#000000"; point[1] = 7; dash[1] = 1
 # COLUMN is read by name (violation, cond_inverted, cond_sensitivity ...) and plotted as its
 # absolute value; zeros and non-numbers (nan: not computed at that row) are left out.
-# XLABEL and YLABEL are gnuplot enhanced text; TITLE and the labels are printed literally.
+# XLABEL and YLABEL are gnuplot enhanced text; TITLE and the labels are printed literally. The
+# terminal and size: terminal.gp.
 
 if (ARGC != 6) {
     print "usage: gnuplot -c iteration_history.gp OUT.png TITLE XLABEL YLABEL CURVES COLUMN"
     exit status 2
 }
 load ARG5
+default_colours = "#9400d3 #009e73 #56b4e9 #e69f00 #f0e442 #0072b2 #e51e10 #000000"
+if (!exists("colour")) {
+    array colour[n]; array point[n]; array dash[n]
+    do for [i=1:n] { colour[i] = word(default_colours, 1 + (i - 1) % 8); point[i] = 1 + (i - 1) % 13; dash[i] = 1 + (i - 1) / 8 }
+}
 
-set terminal pngcairo size 1200,800 enhanced font "sans,11" linewidth 1.5
-set output ARG1
+# The shared files (terminal.gp ...) are loaded from this script's directory.
+plots_dir = ARG0
+while (strlen(plots_dir) > 0 && plots_dir[strlen(plots_dir):] ne "/") { plots_dir = plots_dir[:strlen(plots_dir)-1] }
+fig_out = ARG1
+fig_width = 6.5
+# Room for the key below the axes: long labels, two entries per row.
+fig_height = 4.0 + 0.16 * int((n + 1) / 2)
+load plots_dir."terminal.gp"
 set datafile separator comma
 set datafile commentschars "#"
 set datafile columnheaders
@@ -34,11 +48,9 @@ set ylabel ARG4
 set logscale y
 set format y "10^{%L}"
 set grid xtics ytics
-set key outside below center vertical maxcols 2 width -8 noenhanced font ",9"
+set key below center horizontal maxcols 2 height 1.5 reverse Left noenhanced
 
 positive(x) = (x > 0 ? x : NaN)
-dash(k) = 1 + (k - 1) / 8
-point(k) = 1 + (k - 1) % 13
 
 # A figure whose every curve is exactly 0 at every sample (a quantity conserved to the last
 # bit, a body at rest) has no point on the log scale, and gnuplot cannot autoscale an axis
@@ -53,4 +65,5 @@ do for [i=1:n] {
 if (drawn == 0) { set yrange [1e-16:1]; set label 1 "exactly 0 at every sample" at graph 0.5, 0.5 center }
 
 plot for [i=1:n] file[i] using (column("iteration")):(positive(abs(column(column_name)))) \
-     with linespoints linewidth 1.5 pointtype point(i) pointsize 0.8 dashtype dash(i) title label[i]
+     with linespoints linewidth 1.2 pointtype point[i] pointsize 0.7 dashtype dash[i] linecolor rgb colour[i] \
+     title label[i]

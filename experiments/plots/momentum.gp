@@ -10,15 +10,20 @@
 # e3^T R J Omega; dumbbell: x cross m v + R J Omega), in the scene's momentum unit.
 # It is exactly 0 at t = 0 (and may be elsewhere): those points are left out.
 # XLABEL and YLABEL are gnuplot enhanced text (^ superscript, _ subscript); TITLE and the curve
-# labels are printed literally.
+# labels are printed literally. The terminal and size: terminal.gp.
 
 if (ARGC < 6 || ARGC % 2 != 0) {
     print "usage: gnuplot -c momentum.gp OUT.png TITLE XLABEL YLABEL in1.csv label1 [in2.csv label2 ...]"
     exit status 2
 }
 
-set terminal pngcairo size 1000,600 enhanced font "sans,11" linewidth 1.5
-set output ARG1
+# The shared files (terminal.gp ...) are loaded from this script's directory.
+plots_dir = ARG0
+while (strlen(plots_dir) > 0 && plots_dir[strlen(plots_dir):] ne "/") { plots_dir = plots_dir[:strlen(plots_dir)-1] }
+fig_out = ARG1
+fig_width = 6.5
+fig_height = 4.0 + 0.16 * int(((ARGC - 4) / 2 + 2) / 3)
+load plots_dir."terminal.gp"
 set datafile separator comma
 set datafile commentschars "#"
 set datafile columnheaders
@@ -30,7 +35,7 @@ set logscale y
 set format y "10^{%L}"
 set mytics 10
 set grid xtics ytics
-set key below center horizontal noenhanced
+set key below center horizontal noenhanced maxcols 3 height 1.5 reverse Left
 set autoscale xfix
 
 # log(0) does not exist: exact zeros become NaN (left out) instead of an arbitrary floor.

@@ -9,14 +9,20 @@
 # cumulative number of sweeps at the end of the outer iteration) and "violation" (at its start)
 # are read by name. The violation of outer iteration k is drawn at the sweeps spent before it.
 # XLABEL and YLABEL are gnuplot enhanced text; TITLE and the curve labels are printed literally.
+# The terminal and size: terminal.gp.
 
 if (ARGC < 6 || ARGC % 2 != 0) {
     print "usage: gnuplot -c ocp_convergence.gp OUT.png TITLE XLABEL YLABEL history1.csv label1 [...]"
     exit status 2
 }
 
-set terminal pngcairo size 1000,600 enhanced font "sans,11" linewidth 1.5
-set output ARG1
+# The shared files (terminal.gp ...) are loaded from this script's directory.
+plots_dir = ARG0
+while (strlen(plots_dir) > 0 && plots_dir[strlen(plots_dir):] ne "/") { plots_dir = plots_dir[:strlen(plots_dir)-1] }
+fig_out = ARG1
+fig_width = 6.5
+fig_height = 4.0
+load plots_dir."terminal.gp"
 set datafile separator comma
 set datafile commentschars "#"
 set datafile columnheaders
@@ -28,7 +34,7 @@ set logscale y
 set format y "10^{%L}"
 set mytics 10
 set grid xtics ytics
-set key below center horizontal noenhanced
+set key below center horizontal noenhanced maxcols 3 height 1.5 reverse Left
 
 positive(x) = (x > 0 ? x : NaN)
 # Sweeps spent before outer iteration k: the previous row's cumulative count (1 before the first).

@@ -9,18 +9,35 @@
 #   array file[n]; array label[n]
 #   file[1] = "points.dat"; label[1] = "LGVI order 2"
 #   file[2] = "points.dat"; label[2] = "cvode-bdf (quaternion)"
+#   array colour[n]; array point[n]; array dash[n]      (optional: the curves' styles)
+#   colour[1] = "#000000"; point[1] = 7; dash[1] = 1
 # Curve i draws data block i-1 (blocks separated by two blank lines) of file[i]: whitespace-
-# separated "x y" lines, joined in file order. XLABEL and YLABEL are gnuplot enhanced text;
-# TITLE and the labels are printed literally.
+# separated "x y" lines, joined in file order. lgvi-testbed writes only finite positive points
+# (the axes span the data drawn) and the styles of its one palette (experiments/output/
+# palette.cpp: a method has the same style in every figure); without them the curves take
+# gnuplot's own colours. XLABEL and YLABEL are gnuplot enhanced text; TITLE and the labels are
+# printed literally. The terminal and size: terminal.gp.
 
 if (ARGC != 5) {
     print "usage: gnuplot -c xy_loglog.gp OUT.png TITLE XLABEL YLABEL CURVES"
     exit status 2
 }
 load ARG5
+default_colours = "#9400d3 #009e73 #56b4e9 #e69f00 #f0e442 #0072b2 #e51e10 #000000"
+if (!exists("colour")) {
+    array colour[n]; array point[n]; array dash[n]
+    do for [i=1:n] { colour[i] = word(default_colours, 1 + (i - 1) % 8); point[i] = 1 + (i - 1) % 13; dash[i] = 1 + (i - 1) / 8 }
+}
 
-set terminal pngcairo size 1200,720 enhanced font "sans,11" linewidth 1.5
-set output ARG1
+# The shared files (terminal.gp ...) are loaded from this script's directory.
+plots_dir = ARG0
+while (strlen(plots_dir) > 0 && plots_dir[strlen(plots_dir):] ne "/") { plots_dir = plots_dir[:strlen(plots_dir)-1] }
+fig_out = ARG1
+fig_width = 6.5
+# Room for the key below the axes: about three entries per row.
+fig_height = 4.0 + 0.16 * int((n + 2) / 3)
+load plots_dir."terminal.gp"
+
 set title ARG2 noenhanced
 set xlabel ARG3
 set ylabel ARG4
@@ -28,10 +45,8 @@ set logscale xy
 set format x "10^{%L}"
 set format y "10^{%L}"
 set grid xtics ytics
-set key outside right top vertical noenhanced font ",9"
-
-dash(k) = 1 + (k - 1) / 8
-point(k) = 1 + (k - 1) % 13
+set key below center horizontal noenhanced maxcols 3 height 1.5 reverse Left
 
 plot for [i=1:n] file[i] index (i - 1) using 1:2 \
-     with linespoints linewidth 1.5 pointtype point(i) dashtype dash(i) title label[i]
+     with linespoints linewidth 1.2 pointtype point[i] pointsize 0.7 dashtype dash[i] \
+     linecolor rgb colour[i] title label[i]
