@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <ostream>
 
 #include <nlohmann/json.hpp>
@@ -36,27 +37,44 @@ std::string number_text(double x, int digits) {
   return buf;
 }
 
+/// What a figure's title and panels take from the run's summary JSON (an object, or an array
+/// of one): the cost and terminal violation ("-" when absent) and, for a multistart run, the
+/// start shown and the number of starts (-1 and 0 when absent).
+struct RunValues {
+  std::string cost = "-";
+  std::string violation = "-";
+  long best_start = -1;
+  long starts = 0;
+};
+
+RunValues run_values(const fs::path& summary_file) {
+  RunValues v;
+  std::ifstream in(summary_file);
+  if (!in) return v;
+  const nlohmann::json parsed = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  const nlohmann::json& j = parsed.is_array() && !parsed.empty() ? parsed.front() : parsed;
+  if (!j.is_object()) return v;
+  if (j.contains("cost") && j["cost"].is_number()) v.cost = number_text(j["cost"].get<double>(), 6);
+  if (j.contains("violation") && j["violation"].is_number()) v.violation = number_text(j["violation"].get<double>(), 3);
+  if (j.contains("best_start") && j["best_start"].is_number_integer() && j.contains("starts") &&
+      j["starts"].is_number_integer()) {
+    const long best = j["best_start"].get<long>();
+    const long starts = j["starts"].get<long>();
+    if (best >= 0 && best < starts) {
+      v.best_start = best;
+      v.starts = starts;
+    }
+  }
+  return v;
+}
+
 /// Second title line: the run's cost and terminal violation beside the paper's
-/// (validation/paper_values.toml), read from the ocp summary JSON (an object, or an array of
-/// one). Without a readable summary, the paper's values alone.
-std::string figure_values(const Scene& scene, const fs::path& summary_file) {
+/// (validation/paper_values.toml). Without a readable summary, the paper's values alone.
+std::string figure_values(const Scene& scene, const RunValues& run) {
   const PaperExample* example = paper_values().find(scene.ocp->paper);
   if (example == nullptr) throw InvalidInput(scene.file.string(), "ocp.paper: names no example of the paper");
   const PaperExample& paper = *example;
-  std::string run_cost = "-";
-  std::string run_violation = "-";
-  std::ifstream in(summary_file);
-  if (in) {
-    const nlohmann::json parsed = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-    const nlohmann::json& j = parsed.is_array() && !parsed.empty() ? parsed.front() : parsed;
-    if (j.is_object()) {
-      if (j.contains("cost") && j["cost"].is_number()) run_cost = number_text(j["cost"].get<double>(), 6);
-      if (j.contains("violation") && j["violation"].is_number()) {
-        run_violation = number_text(j["violation"].get<double>(), 3);
-      }
-    }
-  }
-  return "cost " + run_cost + " (paper " + number_text(paper.cost, 6) + "), terminal violation " + run_violation +
+  return "cost " + run.cost + " (paper " + number_text(paper.cost, 6) + "), terminal violation " + run.violation +
          " (paper " + number_text(paper.terminal_violation, 3) + ")";
 }
 
@@ -85,7 +103,7 @@ std::vector<std::pair<std::string, int>> figure_systems() {
 
 CLI::App* add_figures_command(CLI::App& app, FiguresCommand& o) {
   CLI::App* cmd = app.add_subcommand(
-      "figures", "Regenerate the paper's Figs. 2-5 (PNG) from the four optimal control examples");
+      "figures", "Regenerate the paper's Figs. 2-5 (PNG, PDF or SVG) from the four optimal control examples");
   cmd->add_option("--out", o.out, "Output directory of the ocp files and the figures")->capture_default_str();
   cmd->add_option("--from", o.from,
                   "Draw from the ocp-SYSTEM-*.csv files in this directory instead of solving again");
@@ -93,6 +111,7 @@ CLI::App* add_figures_command(CLI::App& app, FiguresCommand& o) {
   for (const auto& [name, number] : figure_systems()) names.push_back(name);
   cmd->add_option("--only", o.only, "Examples to draw: dumbbell, pendulum, cart-pendulum, connected-bodies")
       ->check(CLI::IsMember(names));
+  cmd->add_option("--format", o.format, "Figure file format: png, pdf or svg")->capture_default_str();
   o.plots_dir = default_plots_dir().string();
   o.gnuplot = default_gnuplot();
   cmd->add_option("--plots-dir", o.plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
@@ -102,6 +121,11 @@ CLI::App* add_figures_command(CLI::App& app, FiguresCommand& o) {
 
 int run_figures_command(const FiguresCommand& o, const std::string& command_line, std::ostream& out,
                         std::ostream& err) {
+  const std::optional<FigureFormat> format = figure_format_named(o.format);
+  if (!format) {
+    err << "error: --format: must be png, pdf or svg (got '" << o.format << "')\n" << std::flush;
+    return 1;
+  }
   const fs::path out_dir(o.out);
   const fs::path data_dir = o.from.empty() ? out_dir : fs::path(o.from);
   if (!o.from.empty()) {
@@ -128,20 +152,26 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
       if (code == 1) return 1;
       if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
     }
-    const std::string title =
-        figure_title(scene, number) + "\n" + figure_values(scene, ocp_output_file(data_dir, system, "summary.json"));
+    // One column wide (experiments/plots/ocp_figure.gp): lines of at most 50 characters.
+    const RunValues run = run_values(ocp_output_file(data_dir, system, "summary.json"));
+    const std::string title = wrap_text(figure_title(scene, number), 50) + "\n" + wrap_text(figure_values(scene, run), 50);
     std::vector<std::string> args = {title,
                                      gnuplot_path(require_file(ocp_output_file(data_dir, system, "trajectory.csv"))),
                                      gnuplot_path(require_file(ocp_output_file(data_dir, system, "history.csv")))};
     if (scene.ocp->method == OcpMethod::Direct) {
       args.push_back(gnuplot_path(require_file(ocp_output_file(data_dir, system, "knots.csv"))));
+      // The convergence panel draws the start whose solution the figure shows.
+      if (run.best_start >= 0) {
+        args.push_back(std::to_string(run.best_start));
+        args.push_back(std::to_string(run.starts));
+      }
     }
     verify_ocp_run(data_dir, system);  // the files above are one run's
-    std::string png_name = "fig";
-    png_name.append(std::to_string(number)).append("-").append(system).append(".png");
-    const fs::path png = out_dir / png_name;
-    run_gnuplot_script(o.gnuplot, fs::path(o.plots_dir) / script_name(system), png, args);
-    out << "wrote " << png.string() << "\n" << std::flush;
+    std::string name = "fig";
+    name.append(std::to_string(number)).append("-").append(system).append(figure_extension(*format));
+    const fs::path figure = out_dir / name;
+    run_gnuplot_script(o.gnuplot, fs::path(o.plots_dir) / script_name(system), figure, args);
+    out << "wrote " << figure.string() << "\n" << std::flush;
   }
   return status;
 }

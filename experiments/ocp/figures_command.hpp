@@ -21,11 +21,12 @@ namespace lgvi::experiments {
 
 /// The options of the `figures` subcommand, filled by CLI11.
 struct FiguresCommand {
-  std::string out = "results/figures";  ///< where the ocp files and the PNG files go
+  std::string out = "results/figures";  ///< where the ocp files and the figures go
   /// Empty: solve the optimal control problems first (`ocp SYSTEM` with its defaults, into
   /// `out`). Otherwise a directory holding the ocp-SYSTEM-*.csv files of earlier runs.
   std::string from;
   std::vector<std::string> only;  ///< systems to draw; empty: all four
+  std::string format = "png";     ///< the figures' file format: png, pdf or svg
   std::string plots_dir;
   std::string gnuplot;
 };
@@ -36,10 +37,10 @@ std::vector<std::pair<std::string, int>> figure_systems();
 /// Registers the `figures` subcommand on `app`, binding its options to `options`.
 CLI::App* add_figures_command(CLI::App& app, FiguresCommand& options);
 
-/// Solves (unless options.from is set) and draws OUT/figN-SYSTEM.png for each chosen system.
-/// Returns 0 when every solve converged and every figure was drawn; 2 when a solve did not
-/// converge (its figure is still drawn from the files it wrote, which say why); 1 on bad input
-/// (one "error:" line on `err`). Throws OutputError when a file cannot be read or written.
+/// Solves (unless options.from is set) and draws OUT/figN-SYSTEM.png (.pdf, .svg: options.format)
+/// for each chosen system. Returns 0 when every solve converged and every figure was drawn; 2
+/// when a solve did not converge (its figure is still drawn from the files it wrote, which say
+/// why); 1 on bad input (one "error:" line on `err`: a --format other than png, pdf, svg). Throws OutputError when a file cannot be read or written.
 int run_figures_command(const FiguresCommand& options, const std::string& command_line, std::ostream& out,
                         std::ostream& err);
 

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <algorithm>
@@ -73,6 +74,119 @@ std::string gnuplot_path_literal(const fs::path& path) {
   return gnuplot_literal(p);
 }
 
+const char* figure_format_name(FigureFormat format) {
+  switch (format) {
+    case FigureFormat::Pdf:
+      return "pdf";
+    case FigureFormat::Svg:
+      return "svg";
+    case FigureFormat::Png:
+      break;
+  }
+  return "png";
+}
+
+std::optional<FigureFormat> figure_format_named(std::string_view name) {
+  for (const FigureFormat f : {FigureFormat::Png, FigureFormat::Pdf, FigureFormat::Svg}) {
+    if (name == figure_format_name(f)) return f;
+  }
+  return std::nullopt;
+}
+
+std::string figure_extension(FigureFormat format) { return std::string(".") + figure_format_name(format); }
+
+FigureFormat figure_format_of(const fs::path& file) {
+  const std::string ext = file.extension().string();
+  if (ext == ".pdf") return FigureFormat::Pdf;
+  if (ext == ".svg") return FigureFormat::Svg;
+  return FigureFormat::Png;
+}
+
+namespace {
+
+/// The first `n` bytes of `file` and its last `n` (fewer when the file is shorter); false when
+/// the file cannot be read.
+bool head_and_tail(const fs::path& file, std::size_t n, std::string& head, std::string& tail) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return false;
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) return false;
+  const std::size_t take = std::min<std::size_t>(n, static_cast<std::size_t>(size));
+  head.assign(take, '\0');
+  tail.assign(take, '\0');
+  in.seekg(0);
+  if (!in.read(head.data(), static_cast<std::streamsize>(take))) return false;
+  in.seekg(size - static_cast<std::streamoff>(take));
+  return static_cast<bool>(in.read(tail.data(), static_cast<std::streamsize>(take)));
+}
+
+bool blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+
+std::string_view trim_end(std::string_view s) {
+  while (!s.empty() && blank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+std::string_view trim_start(std::string_view s) {
+  while (!s.empty() && blank(s.front())) s.remove_prefix(1);
+  return s;
+}
+
+bool ends_with(std::string_view s, std::string_view end) {
+  return s.size() >= end.size() && s.substr(s.size() - end.size()) == end;
+}
+
+}  // namespace
+
+bool is_complete_pdf(const fs::path& file) {
+  std::string head, tail;
+  if (!head_and_tail(file, 64, head, tail)) return false;
+  return head.rfind("%PDF-", 0) == 0 && ends_with(trim_end(tail), "%%EOF");
+}
+
+bool is_complete_svg(const fs::path& file) {
+  std::string head, tail;
+  if (!head_and_tail(file, 256, head, tail)) return false;
+  const std::string_view start = trim_start(head);
+  const bool opens = start.rfind("<?xml", 0) == 0 || start.rfind("<svg", 0) == 0;
+  return opens && ends_with(trim_end(tail), "</svg>");
+}
+
+bool is_complete_figure(const fs::path& file, FigureFormat format) {
+  switch (format) {
+    case FigureFormat::Pdf:
+      return is_complete_pdf(file);
+    case FigureFormat::Svg:
+      return is_complete_svg(file);
+    case FigureFormat::Png:
+      break;
+  }
+  return is_complete_png(file);
+}
+
+std::string wrap_text(const std::string& text, std::size_t width) {
+  std::string out;
+  std::size_t line = 0;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const std::size_t space = text.find(' ', i);
+    const std::string word = text.substr(i, space == std::string::npos ? std::string::npos : space - i);
+    if (line > 0 && line + 1 + word.size() > width) {
+      out += '\n';
+      line = 0;
+    } else if (line > 0) {
+      out += ' ';
+      ++line;
+    }
+    out += word;
+    line += word.size();
+    if (space == std::string::npos) break;
+    i = space + 1;
+  }
+  return out;
+}
+
 bool is_complete_png(const fs::path& file) {
   static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   // The last chunk: length 0, type IEND, CRC ae 42 60 82.
@@ -105,7 +219,11 @@ void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, cons
   // opens a name in the output directory that someone else could have replaced.
   TempPath out(png);
   TempPath log(png.string() + ".log");
-  std::vector<std::string> args = {gnuplot, "-c", gnuplot_path(script), gnuplot_path(out.fd_path())};
+  // The output goes through the temporary's descriptor name, which has no extension: the format
+  // is handed over as a variable the scripts' terminal.gp reads (a fixed word, never a path).
+  const FigureFormat format = figure_format_of(png);
+  std::vector<std::string> args = {gnuplot, "-e", std::string("lgvi_format = '") + figure_format_name(format) + "'",
+                                   "-c", gnuplot_path(script), gnuplot_path(out.fd_path())};
   args.insert(args.end(), script_args.begin(), script_args.end());
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
@@ -174,12 +292,16 @@ void run_gnuplot_script(const std::string& gnuplot, const fs::path& script, cons
   if (!exited_ok) {
     throw OutputError(png.string() + ": gnuplot " + script.filename().string() + " failed: " + first_line(log.fd_path()));
   }
-  if (!is_complete_png(out.fd_path())) {
+  if (!is_complete_figure(out.fd_path(), format)) {
     struct stat st {};
     const long long size = fstat(out.fd(), &st) == 0 ? static_cast<long long>(st.st_size) : -1;
-    throw OutputError(png.string() + ": gnuplot " + script.filename().string() +
-                      " exited 0 but wrote an incomplete PNG (" + std::to_string(size) +
-                      " bytes, no IEND chunk: disk full?)");
+    const char* missing = format == FigureFormat::Pdf   ? "no %%EOF at the end"
+                          : format == FigureFormat::Svg ? "no closing </svg>"
+                                                        : "no IEND chunk";
+    std::string kind = figure_format_name(format);
+    for (char& c : kind) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    throw OutputError(png.string() + ": gnuplot " + script.filename().string() + " exited 0 but wrote an incomplete " +
+                      kind + " (" + std::to_string(size) + " bytes, " + missing + ": disk full?)");
   }
   throw_if_interrupted("after gnuplot drew " + png.string() + " (not published)");
   out.commit();

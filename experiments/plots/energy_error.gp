@@ -21,7 +21,10 @@ plots_dir = ARG0
 while (strlen(plots_dir) > 0 && plots_dir[strlen(plots_dir):] ne "/") { plots_dir = plots_dir[:strlen(plots_dir)-1] }
 fig_out = ARG1
 fig_width = 6.5
-fig_height = 4.0 + 0.16 * int(((ARGC - 4) / 2 + 2) / 3)
+n_keys = (ARGC - 4) / 2
+key_maxlen = 0
+do for [i=6:ARGC:2] { key_maxlen = (strlen(ARGV[i]) > key_maxlen ? strlen(ARGV[i]) : key_maxlen) }
+load plots_dir."key_layout.gp"
 load plots_dir."terminal.gp"
 set datafile separator comma
 set datafile commentschars "#"
@@ -34,7 +37,7 @@ set logscale y
 set format y "10^{%L}"
 set mytics 10
 set grid xtics ytics
-set key below center horizontal noenhanced maxcols 3 height 1.5 reverse Left
+@key_below font @font_key
 set autoscale xfix
 
 # log(0) does not exist: exact zeros become NaN (left out) instead of an arbitrary floor.

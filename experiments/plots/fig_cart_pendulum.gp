@@ -43,8 +43,8 @@ unset xtics
 unset ytics
 unset ztics
 unset grid
-set label 101 "cart" at screen 0.03, screen 0.72 left textcolor rgb c1 font ",6"
-set label 102 "mass centre" at screen 0.03, screen 0.695 left textcolor rgb c2 font ",6"
+set label 101 "cart" at screen 0.03, screen 0.72 left textcolor rgb c1 font @font_6
+set label 102 "mass centre" at screen 0.03, screen 0.695 left textcolor rgb c2 font @font_6
 splot ARG3 using "x":"y":(0) with lines lc rgb c1, \
       ARG3 using (column("x") + column("R13")):(column("y") + column("R23")):(-column("R33")) with lines lc rgb c2, \
       ARG3 every every_snapshot using "x":"y":(0):(column("R13")):(column("R23")):(-column("R33")) \
@@ -65,8 +65,8 @@ set title "(b) cart force (o: knots)"
 tic_file = ARG3; tic_columns = "u1 u2"; @value_tics
 set xlabel "t [s]"
 set ylabel "u [N]"
-set label 101 "u_x" at graph 0.3, graph 1 offset 0, row_1 center textcolor rgb c1 font ",6"
-set label 102 "u_y" at graph 0.7, graph 1 offset 0, row_1 center textcolor rgb c2 font ",6"
+set label 101 "u_x" at graph 0.3, graph 1 offset 0, row_1 center textcolor rgb c1 font @font_6
+set label 102 "u_y" at graph 0.7, graph 1 offset 0, row_1 center textcolor rgb c2 font @font_6
 plot ARG3 using "t":"u1" with lines lc rgb c1, \
      ARG3 using "t":"u2" with lines lc rgb c2, \
      ARG5 using "t":"u1" with points pt 6 ps 0.6 lc rgb c1, \
@@ -84,11 +84,11 @@ tic_file = ARG3; tic_columns = "Omega1 Omega2 Omega3 xdot ydot"; @value_tics
 @time_tics
 set xlabel "t [s]"
 set ylabel "Ω [rad/s], v [m/s]"
-set label 101 "Ω_1" at graph 0.2, graph 1 offset 0, row_2 center textcolor rgb c1 font ",6"
-set label 102 "Ω_2" at graph 0.5, graph 1 offset 0, row_2 center textcolor rgb c2 font ",6"
-set label 103 "Ω_3" at graph 0.8, graph 1 offset 0, row_2 center textcolor rgb c3 font ",6"
-set label 104 "dx/dt" at graph 0.3, graph 1 offset 0, row_1 center textcolor rgb c4 font ",6"
-set label 105 "dy/dt" at graph 0.7, graph 1 offset 0, row_1 center textcolor rgb "#CC79A7" font ",6"
+set label 101 "Ω_1" at graph 0.2, graph 1 offset 0, row_2 center textcolor rgb c1 font @font_6
+set label 102 "Ω_2" at graph 0.5, graph 1 offset 0, row_2 center textcolor rgb c2 font @font_6
+set label 103 "Ω_3" at graph 0.8, graph 1 offset 0, row_2 center textcolor rgb c3 font @font_6
+set label 104 "dx/dt" at graph 0.3, graph 1 offset 0, row_1 center textcolor rgb c4 font @font_6
+set label 105 "dy/dt" at graph 0.7, graph 1 offset 0, row_1 center textcolor rgb "#CC79A7" font @font_6
 plot ARG3 using "t":"Omega1" with lines lc rgb c1, \
      ARG3 using "t":"Omega2" with lines lc rgb c2, \
      ARG3 using "t":"Omega3" with lines lc rgb c3, \

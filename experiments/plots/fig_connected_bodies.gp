@@ -44,8 +44,8 @@ unset grid
 set xrange [-1:1]
 set yrange [-1:1]
 set zrange [-1:1]
-set label 101 "R_1 e_1" at screen 0.03, screen 0.72 left textcolor rgb c1 font ",6"
-set label 102 "R_2 e_1" at screen 0.03, screen 0.695 left textcolor rgb c2 font ",6"
+set label 101 "R_1 e_1" at screen 0.03, screen 0.72 left textcolor rgb c1 font @font_6
+set label 102 "R_2 e_1" at screen 0.03, screen 0.695 left textcolor rgb c2 font @font_6
 splot ARG3 using (column("R1_11")):(column("R1_21")):(column("R1_31")) with lines lc rgb c1, \
       ARG3 using (column("R2_11")):(column("R2_21")):(column("R2_31")) with lines lc rgb c2, \
       ARG3 every every_snapshot using (0):(0):(0):(column("R1_11")):(column("R1_21")):(column("R1_31")) \
@@ -68,9 +68,9 @@ set title "(b) joint moment (o: knots)"
 tic_file = ARG3; tic_columns = "u1 u2 u3"; @value_tics
 set xlabel "t [s]"
 set ylabel "u [N m]"
-set label 101 "u_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font ",6"
-set label 102 "u_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font ",6"
-set label 103 "u_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font ",6"
+set label 101 "u_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font @font_6
+set label 102 "u_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font @font_6
+set label 103 "u_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font @font_6
 plot ARG3 using "t":"u1" with lines lc rgb c1, \
      ARG3 using "t":"u2" with lines lc rgb c2, \
      ARG3 using "t":"u3" with lines lc rgb c3, \
@@ -90,9 +90,9 @@ tic_file = ARG3; tic_columns = "Omega1_1 Omega1_2 Omega1_3 Omega2_1 Omega2_2 Ome
 @time_tics
 set xlabel "t [s]"
 set ylabel "Ω [rad/s]"
-set label 101 "Ω_{i,1}" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font ",6"
-set label 102 "Ω_{i,2}" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font ",6"
-set label 103 "Ω_{i,3}" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font ",6"
+set label 101 "Ω_{i,1}" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font @font_6
+set label 102 "Ω_{i,2}" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font @font_6
+set label 103 "Ω_{i,3}" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font @font_6
 plot ARG3 using "t":"Omega1_1" with lines lc rgb c1, \
      ARG3 using "t":"Omega1_2" with lines lc rgb c2, \
      ARG3 using "t":"Omega1_3" with lines lc rgb c3, \

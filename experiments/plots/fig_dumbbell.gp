@@ -34,8 +34,8 @@ set size ratio -1
 set xtics 0.5
 set ytics 0.5
 rod = 0.1
-set label 101 "x" at graph 0.3, graph 1 offset 0, row_1 center textcolor rgb c1 font ",6"
-set label 102 "R e_1" at graph 0.7, graph 1 offset 0, row_1 center textcolor rgb c2 font ",6"
+set label 101 "x" at graph 0.3, graph 1 offset 0, row_1 center textcolor rgb c1 font @font_6
+set label 102 "R e_1" at graph 0.7, graph 1 offset 0, row_1 center textcolor rgb c2 font @font_6
 plot ARG3 using "x1":"x2" with lines lc rgb c1, \
      ARG3 every every_snapshot using (column("x1") - rod/2*column("R11")):(column("x2") - rod/2*column("R21")):(rod*column("R11")):(rod*column("R21")) \
           with vectors nohead lc rgb c2 lw 1.5
@@ -49,9 +49,9 @@ set title "(b) u^m solid, u^f dashed"
 tic_file = ARG3; tic_columns = "um1 um2 um3 uf1 uf2 uf3"; @value_tics
 set xlabel "t"
 set ylabel "u"
-set label 101 "u_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font ",6"
-set label 102 "u_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font ",6"
-set label 103 "u_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font ",6"
+set label 101 "u_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font @font_6
+set label 102 "u_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font @font_6
+set label 103 "u_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font @font_6
 plot ARG3 using "t":"um1" with lines lc rgb c1, \
      ARG3 using "t":"um2" with lines lc rgb c2, \
      ARG3 using "t":"um3" with lines lc rgb c3, \
@@ -71,10 +71,10 @@ set format y "10^{%L}"
 set ytics 1e4 nomirror
 set logscale y2
 set format y2 "10^{%L}"
-set y2tics 10 font ",6" offset -0.5, 0
-set label 101 "violation" at graph 0.5, graph 1 offset 0, row_2 center textcolor rgb c2 font ",6"
-set label 102 "κ inv" at graph 0.25, graph 1 offset 0, row_1 center textcolor rgb c3 font ",6"
-set label 103 "κ full" at graph 0.75, graph 1 offset 0, row_1 center textcolor rgb c4 font ",6"
+set y2tics 10 font @font_6 offset -0.5, 0
+set label 101 "violation" at graph 0.5, graph 1 offset 0, row_2 center textcolor rgb c2 font @font_6
+set label 102 "κ inv" at graph 0.25, graph 1 offset 0, row_1 center textcolor rgb c3 font @font_6
+set label 103 "κ full" at graph 0.75, graph 1 offset 0, row_1 center textcolor rgb c4 font @font_6
 plot ARG4 using "iteration":(positive(column("violation"))) with lines lc rgb c2, \
      ARG4 using "iteration":(positive(column("cond_inverted"))) axes x1y2 with lines lc rgb c3, \
      ARG4 using "iteration":(positive(column("cond_sensitivity"))) axes x1y2 with lines dt 2 lc rgb c4
@@ -91,9 +91,9 @@ tic_file = ARG3; tic_columns = "Omega1 Omega2 Omega3"; @value_tics
 @time_tics
 set xlabel "t"
 set ylabel "Ω"
-set label 101 "Ω_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font ",6"
-set label 102 "Ω_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font ",6"
-set label 103 "Ω_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font ",6"
+set label 101 "Ω_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font @font_6
+set label 102 "Ω_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font @font_6
+set label 103 "Ω_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font @font_6
 plot ARG3 using "t":"Omega1" with lines lc rgb c1, \
      ARG3 using "t":"Omega2" with lines lc rgb c2, \
      ARG3 using "t":"Omega3" with lines lc rgb c3

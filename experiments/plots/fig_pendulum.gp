@@ -40,8 +40,8 @@ unset grid
 set xrange [-1:1]
 set yrange [-1:1]
 set zrange [-1:1]
-set label 101 "R e_1" at screen 0.03, screen 0.75 left textcolor rgb c1 font ",6"
-set label 102 "R e_3" at screen 0.03, screen 0.725 left textcolor rgb c2 font ",6"
+set label 101 "R e_1" at screen 0.03, screen 0.75 left textcolor rgb c1 font @font_6
+set label 102 "R e_3" at screen 0.03, screen 0.725 left textcolor rgb c2 font @font_6
 splot ARG3 using (column("R11")):(column("R21")):(column("R31")) with lines lc rgb c1, \
       ARG3 using (column("R13")):(column("R23")):(column("R33")) with lines lc rgb c2, \
       ARG3 every every_snapshot using (0):(0):(0):(column("R11")):(column("R21")):(column("R31")) \
@@ -63,9 +63,9 @@ set title "(b) control moment"
 tic_file = ARG3; tic_columns = "u1 u2 u3"; @value_tics
 set xlabel "t [s]"
 set ylabel "u [N m]"
-set label 101 "u_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font ",6"
-set label 102 "u_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font ",6"
-set label 103 "u_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font ",6"
+set label 101 "u_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font @font_6
+set label 102 "u_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font @font_6
+set label 103 "u_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font @font_6
 plot ARG3 using "t":"u1" with lines lc rgb c1, \
      ARG3 using "t":"u2" with lines lc rgb c2, \
      ARG3 using "t":"u3" with lines lc rgb c3
@@ -82,10 +82,10 @@ set format y "10^{%L}"
 set ytics 1e4 nomirror
 set logscale y2
 set format y2 "10^{%L}"
-set y2tics 1e10 font ",6" offset -0.5, 0
-set label 101 "violation" at graph 0.5, graph 1 offset 0, row_2 center textcolor rgb c2 font ",6"
-set label 102 "κ block" at graph 0.25, graph 1 offset 0, row_1 center textcolor rgb c3 font ",6"
-set label 103 "κ full" at graph 0.75, graph 1 offset 0, row_1 center textcolor rgb c4 font ",6"
+set y2tics 1e10 font @font_6 offset -0.5, 0
+set label 101 "violation" at graph 0.5, graph 1 offset 0, row_2 center textcolor rgb c2 font @font_6
+set label 102 "κ block" at graph 0.25, graph 1 offset 0, row_1 center textcolor rgb c3 font @font_6
+set label 103 "κ full" at graph 0.75, graph 1 offset 0, row_1 center textcolor rgb c4 font @font_6
 plot ARG4 using "iteration":(positive(column("violation"))) with linespoints pt 6 ps 0.4 lc rgb c2, \
      ARG4 using "iteration":(positive(column("cond_inverted"))) axes x1y2 with linespoints pt 2 ps 0.4 lc rgb c3, \
      ARG4 using "iteration":(positive(column("cond_sensitivity"))) axes x1y2 with linespoints pt 4 ps 0.4 lc rgb c4
@@ -102,9 +102,9 @@ tic_file = ARG3; tic_columns = "Omega1 Omega2 Omega3"; @value_tics
 @time_tics
 set xlabel "t [s]"
 set ylabel "Ω [rad/s]"
-set label 101 "Ω_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font ",6"
-set label 102 "Ω_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font ",6"
-set label 103 "Ω_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font ",6"
+set label 101 "Ω_1" at graph 0.2, graph 1 offset 0, row_1 center textcolor rgb c1 font @font_6
+set label 102 "Ω_2" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c2 font @font_6
+set label 103 "Ω_3" at graph 0.8, graph 1 offset 0, row_1 center textcolor rgb c3 font @font_6
 plot ARG3 using "t":"Omega1" with lines lc rgb c1, \
      ARG3 using "t":"Omega2" with lines lc rgb c2, \
      ARG3 using "t":"Omega3" with lines lc rgb c3

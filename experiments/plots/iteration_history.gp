@@ -32,8 +32,10 @@ plots_dir = ARG0
 while (strlen(plots_dir) > 0 && plots_dir[strlen(plots_dir):] ne "/") { plots_dir = plots_dir[:strlen(plots_dir)-1] }
 fig_out = ARG1
 fig_width = 6.5
-# Room for the key below the axes: long labels, two entries per row.
-fig_height = 4.0 + 0.16 * int((n + 1) / 2)
+n_keys = n
+key_maxlen = 0
+do for [i=1:n] { key_maxlen = (strlen(label[i]) > key_maxlen ? strlen(label[i]) : key_maxlen) }
+load plots_dir."key_layout.gp"
 load plots_dir."terminal.gp"
 set datafile separator comma
 set datafile commentschars "#"
@@ -48,7 +50,7 @@ set ylabel ARG4
 set logscale y
 set format y "10^{%L}"
 set grid xtics ytics
-set key below center horizontal maxcols 2 height 1.5 reverse Left noenhanced
+@key_below font @font_key
 
 positive(x) = (x > 0 ? x : NaN)
 

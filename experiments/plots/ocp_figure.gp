@@ -20,7 +20,7 @@ set datafile commentschars "#"
 set datafile columnheaders
 positive(x) = (x > 0 ? x : NaN)
 
-set tics font ",6"
+set tics font @font_6
 set xtics offset 0, 0.3
 set ytics offset 0.4, 0
 set xlabel offset 0, 0.6

@@ -26,9 +26,9 @@ set format y "10^{%L}"
 set ytics 1e4 nomirror
 set logscale y2
 set format y2 "10^{%L}"
-set y2tics 100 font ",6" offset -0.5, 0
-set label 101 "violation (left)" at graph 0.5, graph 1 offset 0, row_2 center textcolor rgb c2 font ",6"
-set label 102 "cost [".cost_unit."] (right)" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c1 font ",6"
+set y2tics 100 font @font_6 offset -0.5, 0
+set label 101 "violation (left)" at graph 0.5, graph 1 offset 0, row_2 center textcolor rgb c2 font @font_6
+set label 102 "cost [".cost_unit."] (right)" at graph 0.5, graph 1 offset 0, row_1 center textcolor rgb c1 font @font_6
 plot history using (panel_x(column("start"), column("iteration"), column("evaluation"))):(positive(column("violation"))) \
          with lines lw 0.8 lc rgb c2, \
      history using (panel_x(column("start"), column("iteration"), column("evaluation"))):(positive(column("cost"))) \

@@ -26,9 +26,14 @@ if (lgvi_format eq "pdf") {
     if (lgvi_format eq "svg") {
         set terminal svg size fig_width * 72, fig_height * 72 dynamic enhanced font "sans,".fig_font linewidth 1
     } else {
-        set terminal pngcairo size fig_width * fig_dpi, fig_height * fig_dpi enhanced font "sans,".fig_font \
-            fontscale png_scale linewidth png_scale pointscale png_scale
+        # The text size scaled in the font itself: gnuplot lays keys out by the font's nominal
+        # size, and with `fontscale` it would reserve twice the room a key needs.
+        set terminal pngcairo size fig_width * fig_dpi, fig_height * fig_dpi enhanced \
+            font "sans,".sprintf("%g", fig_font * png_scale) linewidth png_scale pointscale png_scale
     }
 }
 set output fig_out
+# Smaller text (tick labels, curve names) as macros, `font @font_6`, scaled in a PNG as fig_font is.
+font_6 = sprintf("\",%g\"", 6 * (lgvi_format eq "png" ? png_scale : 1))
+if (exists("key_font")) { font_key = sprintf("\",%g\"", key_font * (lgvi_format eq "png" ? png_scale : 1)) }
 set key samplen 2.5 spacing 1

@@ -36,8 +36,10 @@ plots_dir = ARG0
 while (strlen(plots_dir) > 0 && plots_dir[strlen(plots_dir):] ne "/") { plots_dir = plots_dir[:strlen(plots_dir)-1] }
 fig_out = ARG1
 fig_width = 6.5
-# Room for the key below the axes: about three entries per row.
-fig_height = 4.0 + 0.16 * int((n + 2) / 3)
+n_keys = n
+key_maxlen = 0
+do for [i=1:n] { key_maxlen = (strlen(label[i]) > key_maxlen ? strlen(label[i]) : key_maxlen) }
+load plots_dir."key_layout.gp"
 load plots_dir."terminal.gp"
 set datafile separator comma
 set datafile commentschars "#"
@@ -55,7 +57,7 @@ set format y "10^{%L}"
 if (logx > 0) { set logscale x; set format x "10^{%L}" }
 set grid xtics ytics
 set autoscale xfix
-set key below center horizontal noenhanced maxcols 3 height 1.5 reverse Left
+@key_below font @font_key
 
 overflow = 1e30
 positive(x) = (x > 0 && x <= overflow ? x : NaN)

@@ -2,7 +2,7 @@
 # step size).
 #
 # Usage:
-#   gnuplot -c xy_loglog.gp OUT.png TITLE XLABEL YLABEL CURVES
+#   gnuplot -c xy_loglog.gp OUT.png TITLE XLABEL YLABEL CURVES [NOTE]
 #
 # CURVES is a gnuplot file defining the curves (gnuplot -c passes at most 9 arguments):
 #   n = 2
@@ -13,13 +13,14 @@
 #   colour[1] = "#000000"; point[1] = 7; dash[1] = 1
 # Curve i draws data block i-1 (blocks separated by two blank lines) of file[i]: whitespace-
 # separated "x y" lines, joined in file order. lgvi-testbed writes only finite positive points
-# (the axes span the data drawn) and the styles of its one palette (experiments/output/
+# up to 1e30 (the axes span the data drawn; NOTE, printed in a corner, says how many it left
+# out) and the styles of its one palette (experiments/output/
 # palette.cpp: a method has the same style in every figure); without them the curves take
 # gnuplot's own colours. XLABEL and YLABEL are gnuplot enhanced text; TITLE and the labels are
 # printed literally. The terminal and size: terminal.gp.
 
-if (ARGC != 5) {
-    print "usage: gnuplot -c xy_loglog.gp OUT.png TITLE XLABEL YLABEL CURVES"
+if (ARGC != 5 && ARGC != 6) {
+    print "usage: gnuplot -c xy_loglog.gp OUT.png TITLE XLABEL YLABEL CURVES [NOTE]"
     exit status 2
 }
 load ARG5
@@ -34,8 +35,10 @@ plots_dir = ARG0
 while (strlen(plots_dir) > 0 && plots_dir[strlen(plots_dir):] ne "/") { plots_dir = plots_dir[:strlen(plots_dir)-1] }
 fig_out = ARG1
 fig_width = 6.5
-# Room for the key below the axes: about three entries per row.
-fig_height = 4.0 + 0.16 * int((n + 2) / 3)
+n_keys = n
+key_maxlen = 0
+do for [i=1:n] { key_maxlen = (strlen(label[i]) > key_maxlen ? strlen(label[i]) : key_maxlen) }
+load plots_dir."key_layout.gp"
 load plots_dir."terminal.gp"
 
 set title ARG2 noenhanced
@@ -45,7 +48,9 @@ set logscale xy
 set format x "10^{%L}"
 set format y "10^{%L}"
 set grid xtics ytics
-set key below center horizontal noenhanced maxcols 3 height 1.5 reverse Left
+@key_below font @font_key
+set style textbox opaque noborder
+if (ARGC == 6) { set label 1 ARG6 noenhanced at graph 0.02, graph 0.95 left front boxed }
 
 plot for [i=1:n] file[i] index (i - 1) using 1:2 \
      with linespoints linewidth 1.2 pointtype point[i] pointsize 0.7 dashtype dash[i] \

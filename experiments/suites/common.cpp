@@ -1,11 +1,14 @@
 #include "experiments/suites/common.hpp"
 
+#include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <map>
 
 #include "baselines/model.hpp"
 #include "baselines/solver.hpp"
 #include "experiments/output/atomic_file.hpp"
+#include "experiments/output/fields.hpp"
 #include "experiments/output/plot.hpp"
 #include "experiments/systems/systems.hpp"
 
@@ -109,46 +112,71 @@ SuiteCase simulate_case(const std::string& id, const std::string& group, Simulat
 
 namespace {
 
-/// The curve-list file the scripts load (gnuplot -c takes at most 9 arguments): n, file[i],
-/// label[i]. Written into `list`, a temporary next to the figure (removed with it), which gnuplot
-/// reads through list.fd_path() (run_gnuplot_script).
-void write_curve_list(TempPath& list, const std::vector<Curve>& curves) {
-  std::string text = "n = " + std::to_string(curves.size()) + "\narray file[n]\narray label[n]\n";
-  for (std::size_t i = 0; i < curves.size(); ++i) {
-    text += "file[" + std::to_string(i + 1) + "] = " + gnuplot_path_literal(curves[i].csv) + "\n";
-    text += "label[" + std::to_string(i + 1) + "] = " + gnuplot_literal(curves[i].label) + "\n";
-  }
-  list.write(text);
-}
+/// Characters per title line of the 6.5 in wide figures (9 pt text).
+constexpr std::size_t kTitleWidth = 90;
 
 }  // namespace
 
-fs::path plot_time_series(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+PlotStyle row_style(const SummaryRow& row) {
+  const std::string& method = row.text("method");
+  if (method.empty()) return plot_style(row.text("label"));
+  if (method == "lgvi" && row.text("form") == "printed") return plot_style("lgvi-printed");
+  return plot_style(method, row.text("model"));
+}
+
+std::string curve_list_text(const std::vector<Curve>& curves) {
+  std::string text = "n = " + std::to_string(curves.size()) +
+                     "\narray file[n]\narray label[n]\narray colour[n]\narray point[n]\narray dash[n]\n";
+  std::vector<PlotStyle> styles;
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    const std::string k = std::to_string(i + 1);
+    PlotStyle style = curves[i].style ? *curves[i].style : plot_style(curves[i].label);
+    // Two curves of one method (two steps, two tolerances) would look alike: a curve whose
+    // style an earlier curve of the figure has takes its label's.
+    if (std::find(styles.begin(), styles.end(), style) != styles.end()) style = plot_style(curves[i].label);
+    styles.push_back(style);
+    text += "file[" + k + "] = " + gnuplot_path_literal(curves[i].csv) + "\n";
+    text += "label[" + k + "] = " + gnuplot_literal(curves[i].label) + "\n";
+    text += "colour[" + k + "] = " + gnuplot_literal(style.colour) + "; point[" + k + "] = " +
+            std::to_string(style.point) + "; dash[" + k + "] = " + std::to_string(style.dash) + "\n";
+  }
+  return text;
+}
+
+namespace {
+
+/// The curve list (curve_list_text) written into `list`, a temporary next to the figure (removed
+/// with it), which gnuplot reads through list.fd_path() (run_gnuplot_script).
+void write_curve_list(TempPath& list, const std::vector<Curve>& curves) { list.write(curve_list_text(curves)); }
+
+}  // namespace
+
+fs::path plot_time_series(const RenderContext& ctx, const std::string& name, const std::string& title,
                           const std::string& ylabel, const std::string& column, bool log_x,
-                          const std::vector<const SummaryRow*>& rows) {
+                          const std::vector<const SummaryRow*>& rows, CurvesBy by) {
   std::vector<Curve> curves;
   std::string system;
   for (const SummaryRow* r : rows) {
     const fs::path csv = ctx.data_dir / r->text("csv_path");
     std::error_code ec;
     if (r->text("csv_path").empty() || !fs::is_regular_file(csv, ec)) continue;  // no run (rejected input, error)
-    std::string label = r->text("label");
+    std::string label = by == CurvesBy::System ? r->text("scene") : r->text("label");
     if (r->text("status") != "completed") label += " [" + r->text("status") + "]";
-    curves.push_back({csv, label});
+    curves.push_back({csv, label, by == CurvesBy::System ? plot_style(r->text("system")) : row_style(*r)});
     system = r->text("system");
   }
   if (curves.empty()) return {};
-  const fs::path png = ctx.out_dir / png_name;
-  TempPath list(png.string() + ".curves");
+  const fs::path figure = ctx.figure(name);
+  TempPath list(figure.string() + ".curves");
   write_curve_list(list, curves);
-  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "time_series.gp", png,
-                     {title, system_labels(system).time, ylabel, gnuplot_path(list.fd_path()),
+  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "time_series.gp", figure,
+                     {wrap_text(title, kTitleWidth), system_labels(system).time, ylabel, gnuplot_path(list.fd_path()),
                       column + (log_x ? ":logx" : "")},
                      {&list});
-  return png;
+  return figure;
 }
 
-fs::path plot_iterations(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+fs::path plot_iterations(const RenderContext& ctx, const std::string& name, const std::string& title,
                          const std::string& ylabel, const std::string& column, const std::vector<const SummaryRow*>& rows) {
   std::vector<Curve> curves;
   for (const SummaryRow* r : rows) {
@@ -156,49 +184,60 @@ fs::path plot_iterations(const RenderContext& ctx, const std::string& png_name, 
     std::error_code ec;
     if (r->text("csv_path").empty() || !fs::is_regular_file(csv, ec)) continue;
     std::string label = r->text("label");
+    // The case's own label: a solver configuration, styled by its name.
+    const PlotStyle style = plot_style(label);
     if (r->text("status") != "completed") label += " [" + r->text("status") + "]";
-    curves.push_back({csv, label});
+    curves.push_back({csv, label, style});
   }
   if (curves.empty()) return {};
-  const fs::path png = ctx.out_dir / png_name;
-  TempPath list(png.string() + ".curves");
+  const fs::path figure = ctx.figure(name);
+  TempPath list(figure.string() + ".curves");
   write_curve_list(list, curves);
-  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "iteration_history.gp", png,
-                     {title, "outer (Newton) iteration", ylabel, gnuplot_path(list.fd_path()), column}, {&list});
-  return png;
+  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "iteration_history.gp", figure,
+                     {wrap_text(title, kTitleWidth), "outer (Newton) iteration", ylabel, gnuplot_path(list.fd_path()), column}, {&list});
+  return figure;
 }
 
-fs::path plot_xy(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+fs::path plot_xy(const RenderContext& ctx, const std::string& name, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel, const std::vector<XyCurve>& curves) {
-  const fs::path png = ctx.out_dir / png_name;
+  const fs::path figure = ctx.figure(name);
   // The points go through a temporary data file (one gnuplot data block per curve), removed
   // afterwards: the figure is the output, the numbers are in summary.csv.
   std::string text;
   std::size_t blocks = 0;
-  std::vector<std::string> labels;
+  std::size_t overflowing = 0;
+  std::vector<std::pair<std::string, PlotStyle>> labels;
   for (const XyCurve& c : curves) {
     std::string block;
     for (const auto& [x, y] : c.points) {
       if (!(x > 0.0) || !(y > 0.0) || !std::isfinite(x) || !std::isfinite(y)) continue;  // log axes
+      if (x > kOverflowingValue || y > kOverflowingValue) {
+        ++overflowing;
+        continue;
+      }
       char buf[64];
       std::snprintf(buf, sizeof buf, "%.17g %.17g\n", x, y);
       block += buf;
     }
     if (block.empty()) continue;
     text += block + "\n\n";
-    labels.push_back(c.label);
+    labels.emplace_back(c.label, c.style ? *c.style : plot_style(c.label));
     ++blocks;
   }
   if (blocks == 0) return {};
-  TempPath data(png.string() + ".dat");
+  TempPath data(figure.string() + ".dat");
   data.write(text);
   std::vector<Curve> args;
-  for (const std::string& label : labels) args.push_back({data.fd_path(), label});
-  TempPath list(png.string() + ".curves");
+  for (const auto& [label, style] : labels) args.push_back({data.fd_path(), label, style});
+  TempPath list(figure.string() + ".curves");
   write_curve_list(list, args);
-  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "xy_loglog.gp", png,
-                     {title, xlabel, ylabel, gnuplot_path(list.fd_path())}, {&data, &list});
-  return png;
+  std::vector<std::string> script_args = {wrap_text(title, kTitleWidth), xlabel, ylabel, gnuplot_path(list.fd_path())};
+  if (overflowing > 0) {
+    script_args.push_back(std::to_string(overflowing) + (overflowing == 1 ? " point" : " points") +
+                          " above 1e30 not drawn");
+  }
+  run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "xy_loglog.gp", figure, script_args, {&data, &list});
+  return figure;
 }
 
 std::vector<XyCurve> curves_by_label(const std::vector<const SummaryRow*>& rows, const std::string& x,
@@ -208,7 +247,7 @@ std::vector<XyCurve> curves_by_label(const std::vector<const SummaryRow*>& rows,
   for (const SummaryRow* r : rows) {
     if (r->text("status") != "completed") continue;
     const auto [it, inserted] = where.emplace(r->text("label"), curves.size());
-    if (inserted) curves.push_back({r->text("label"), {}});
+    if (inserted) curves.push_back({r->text("label"), {}, row_style(*r)});
     const auto xv = r->number(x);
     const auto yv = r->number(y);
     if (xv && yv) curves[it->second].points.emplace_back(*xv, *yv);
@@ -285,6 +324,11 @@ std::string fmt(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.2g", x);
   return buf;
+}
+
+std::string title_number(const SummaryRow& row, const std::string& column) {
+  const auto x = row.number(column);
+  return x ? shortest(*x) : row.text(column);
 }
 
 }  // namespace lgvi::experiments::suites

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "experiments/output/plot.hpp"
 #include "experiments/suites/suite.hpp"
 #include "experiments/suites/jobs.hpp"
 #include "experiments/systems/binding.hpp"
@@ -60,30 +61,53 @@ SuiteCase simulate_case(const std::string& id, const std::string& group, Simulat
                         Expectation expect, std::shared_ptr<const ReferenceRun> reference = nullptr);
 
 
-/// A figure of one CSV column against time, one curve per case of `rows` (failed runs drawn up
-/// to their last good step). log_x: logarithmic time axis (t = 0 left out).
-std::filesystem::path plot_time_series(const RenderContext& ctx, const std::string& png_name, const std::string& title,
-                                       const std::string& ylabel, const std::string& column, bool log_x,
-                                       const std::vector<const SummaryRow*>& rows);
+/// What tells a figure's curves apart: their method (label and palette style of the row's
+/// method, model and form), or their system (the soak: one run per system of one method; label
+/// the scene, style the system's).
+enum class CurvesBy { Method, System };
 
-/// A figure of one column of iteration-history CSVs (column "iteration" on x, |column| on a log
-/// y axis; gnuplot script iteration_history.gp), one curve per row of `rows` with its csv_path
-/// and label (the status appended when it is not "completed").
-std::filesystem::path plot_iterations(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+/// The palette style of a summary row's curve: its method's (registry name, "lgvi-printed" for
+/// the printed form) with its coordinate model's dash type.
+PlotStyle row_style(const SummaryRow& row);
+
+/// The curve-list file the curve scripts load (gnuplot -c takes at most 9 arguments): n,
+/// file[i], label[i], colour[i], point[i], dash[i], the style of each curve its own or its
+/// label's (plot_style); a curve whose style an earlier curve already has (one method at two
+/// steps) takes its label's.
+std::string curve_list_text(const std::vector<Curve>& curves);
+
+/// A figure (file ctx.figure(name)) of one CSV column against time, one curve per case of
+/// `rows` (failed runs drawn up to their last good step). log_x: logarithmic time axis (t = 0
+/// left out).
+std::filesystem::path plot_time_series(const RenderContext& ctx, const std::string& name, const std::string& title,
+                                       const std::string& ylabel, const std::string& column, bool log_x,
+                                       const std::vector<const SummaryRow*>& rows, CurvesBy by = CurvesBy::Method);
+
+/// A figure (file ctx.figure(name)) of one column of iteration-history CSVs (column "iteration"
+/// on x, |column| on a log y axis; gnuplot script iteration_history.gp), one curve per row of
+/// `rows` with its csv_path and label (the status appended when it is not "completed").
+std::filesystem::path plot_iterations(const RenderContext& ctx, const std::string& name, const std::string& title,
                                       const std::string& ylabel, const std::string& column,
                                       const std::vector<const SummaryRow*>& rows);
 
-/// One curve of an x-y figure: points in drawing order.
+/// One curve of an x-y figure: points in drawing order, and its style (none: its label's).
 struct XyCurve {
   std::string label;
   std::vector<std::pair<double, double>> points;
+  std::optional<PlotStyle> style = std::nullopt;
 };
-/// Log-log x-y figure (gnuplot script xy_loglog.gp); curves without points are left out.
-std::filesystem::path plot_xy(const RenderContext& ctx, const std::string& png_name, const std::string& title,
+/// Points above this are left out of the log-log figures, as non-finite ones are: a run that
+/// diverged without stopping would stretch the axis over a hundred decades. The figure says how
+/// many.
+inline constexpr double kOverflowingValue = 1e30;
+/// Log-log x-y figure (file ctx.figure(name); gnuplot script xy_loglog.gp); curves without
+/// points are left out, and so are points not positive, not finite or above kOverflowingValue.
+std::filesystem::path plot_xy(const RenderContext& ctx, const std::string& name, const std::string& title,
                               const std::string& xlabel, const std::string& ylabel, const std::vector<XyCurve>& curves);
 
 /// One curve per label (first-appearance order) of the completed rows' (x, y) columns, rows
-/// without both numbers left out: a work-precision diagram's curves.
+/// without both numbers left out, each styled by its first row (row_style): a work-precision
+/// diagram's curves.
 std::vector<XyCurve> curves_by_label(const std::vector<const SummaryRow*>& rows, const std::string& x,
                                      const std::string& y);
 
@@ -104,6 +128,9 @@ std::vector<std::pair<std::string, std::vector<const SummaryRow*>>> by_group(con
 
 /// "%.2g" of a number.
 std::string fmt(double x);
+/// A row's number for a title, as short as reads back the same (0.005, not the summary's
+/// 0.0050000000000000001); the cell's text when it holds no number.
+std::string title_number(const SummaryRow& row, const std::string& column);
 
 // The suites (experiments/suites/*.cpp).
 Suite default_suite(const SuiteParams& params);

@@ -34,30 +34,21 @@ Suite default_suite(const SuiteParams& params) {
   s.render = [](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
     std::vector<fs::path> files;
     for (const auto& [scene, group] : by_group(rows)) {
-      std::vector<Curve> curves;
-      for (const SummaryRow* r : group) {
-        const fs::path csv = ctx.data_dir / r->text("csv_path");
-        std::error_code ec;
-        if (fs::is_regular_file(csv, ec)) curves.push_back({csv, r->text("label")});
-      }
-      if (curves.empty()) continue;
       const SummaryRow& first = *group.front();
       const SystemLabels labels = system_labels(first.text("system"));
-      const std::string suffix = ", h = " + first.text("h");
+      const std::string suffix = ", h = " + title_number(first, "h");
       const struct {
-        const char* script;
+        const char* column;
         const char* kind;
         std::string title;
         std::string ylabel;
       } figures[] = {
-          {"energy_error.gp", "energy", scene + ": energy error" + suffix, labels.energy},
-          {"orthogonality.gp", "orthogonality", scene + ": orthogonality error" + suffix, "||R^T R - I||_F"},
-          {"momentum.gp", "momentum", scene + ": " + first.text("momentum_map") + " error" + suffix, labels.momentum},
+          {"energy_error", "energy", scene + ": energy error" + suffix, labels.energy},
+          {"orthogonality_error", "orthogonality", scene + ": orthogonality error" + suffix, "||R^T R - I||_F"},
+          {"momentum_error", "momentum", scene + ": " + first.text("momentum_map") + " error" + suffix, labels.momentum},
       };
       for (const auto& f : figures) {
-        const fs::path png = ctx.out_dir / (scene + "-" + f.kind + ".png");
-        render_plot(ctx.gnuplot, ctx.plots_dir / f.script, png, f.title, labels.time, f.ylabel, curves);
-        files.push_back(png);
+        files.push_back(plot_time_series(ctx, scene + "-" + f.kind, f.title, f.ylabel, f.column, false, group));
       }
     }
     return files;

@@ -184,20 +184,21 @@ Suite extremes_suite(const SuiteParams& params) {
           for (const SummaryRow* r : members) {
             if (r->text("status") != "completed") continue;  // failures are in the table
             const auto [it, inserted] = where.emplace(r->text("label"), curves.size());
-            if (inserted) curves.push_back({r->text("label"), {}});
+            if (inserted) curves.push_back({r->text("label"), {}, row_style(*r)});
             if (r->number("h_omega") && r->number(column)) {
               curves[it->second].points.emplace_back(*r->number("h_omega"), *r->number(column));
             }
           }
-          files.push_back(plot_xy(ctx, "step-size-" + name + ".png",
+          files.push_back(plot_xy(ctx, "step-size-" + name,
                                   "free body: " + name + " error against the step (completed runs; failures in "
                                   "extremes-table.md)",
                                   "h |Ω_0| [rad]", ylabel, curves));
         }
       } else if (group == "tiny-steps" || group == "fast-spin") {
-        files.push_back(plot_time_series(ctx, group + "-energy.png",
-                                         "free body, " + group + ": energy error, " + members.front()->text("variant") +
-                                             ", h = " + fmt(members.front()->number("h").value_or(0.0)),
+        const std::string& variant = members.front()->text("variant");
+        files.push_back(plot_time_series(ctx, group + "-energy",
+                                         "free body, " + group + ": energy error" + (variant.empty() ? "" : ", " + variant) +
+                                             ", h = " + title_number(*members.front(), "h"),
                                          "|E - E_0| [J]", "energy_error", true, members));
       }
     }

@@ -220,7 +220,7 @@ Suite long_horizon_suite(const SuiteParams& params) {
     const std::string evaluations_label = "evaluations (baselines: RHS calls; LGVI: substeps)";
     for (const auto& [scene, group] : groups) {
       const SystemLabels units = system_labels(group.front()->text("system"));
-      const std::string horizon = "T = " + group.front()->text("t_final") + units.horizon_unit;
+      const std::string horizon = "T = " + title_number(*group.front(), "t_final") + units.horizon_unit;
       const struct {
         const char* x;
         const char* y;
@@ -239,7 +239,7 @@ Suite long_horizon_suite(const SuiteParams& params) {
            "max orthogonality error"},
       };
       for (const auto& f : figures) {
-        files.push_back(plot_xy(ctx, scene + "-" + f.name + ".png",
+        files.push_back(plot_xy(ctx, scene + "-" + f.name,
                                 scene + ": " + f.what + " over " + horizon + " vs cost (sweeps of h and rtol)",
                                 f.xlabel, f.ylabel, curves_by_label(group, f.x, f.y)));
       }
@@ -266,12 +266,13 @@ Suite long_horizon_suite(const SuiteParams& params) {
         if (!history.empty()) tracked_rates[scene + "\n" + p.label] = history.back().second / history.back().first;
         XyCurve curve{p.label + (p.finest->number("rtol") ? " rtol " : " h ") +
                           fmt(p.finest->number("rtol").value_or(p.finest->number("h").value_or(0.0))),
-                      {}};
+                      {},
+                      row_style(*p.finest)};
         for (const auto& [t, tau] : history) curve.points.emplace_back(t, std::abs(tau));
         curves.push_back(std::move(curve));
       }
       const SystemLabels units = system_labels(group.front()->text("system"));
-      files.push_back(plot_xy(ctx, scene + "-phase-time.png",
+      files.push_back(plot_xy(ctx, scene + "-phase-time",
                               scene + ": phase shift |tau(t)| against the exact solution (smallest h, tightest rtol)",
                               units.time, "|tau| (time shift to the exact trajectory)", curves));
     }

@@ -68,7 +68,7 @@ Suite energy_drift_suite(const SuiteParams& params) {
     std::vector<fs::path> files;
     for (const auto& [scene, group] : by_group(rows)) {
       const std::string system = group.front()->text("system");
-      files.push_back(plot_time_series(ctx, scene + "-energy-drift.png",
+      files.push_back(plot_time_series(ctx, scene + "-energy-drift",
                                        scene + ": energy error, " + steps_text(group), system_labels(system).energy,
                                        "energy_error", true, group));
     }
@@ -89,7 +89,7 @@ Suite orthogonality_suite(const SuiteParams& params) {
   s.render = [](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
     std::vector<fs::path> files;
     for (const auto& [scene, group] : by_group(rows)) {
-      files.push_back(plot_time_series(ctx, scene + "-orthogonality.png",
+      files.push_back(plot_time_series(ctx, scene + "-orthogonality",
                                        scene + ": orthogonality error, " + steps_text(group), "||R^T R - I||_F",
                                        "orthogonality_error", true, group));
       std::vector<const SummaryRow*> quaternion;
@@ -97,7 +97,7 @@ Suite orthogonality_suite(const SuiteParams& params) {
         if (r->text("model").starts_with("quaternion")) quaternion.push_back(r);
       }
       if (quaternion.empty()) continue;
-      files.push_back(plot_time_series(ctx, scene + "-quaternion-norm.png",
+      files.push_back(plot_time_series(ctx, scene + "-quaternion-norm",
                                        scene + ": quaternion norm error (quaternion models), " + steps_text(group),
                                        "| |q| - 1 |", "quaternion_norm_error", true, quaternion));
     }
@@ -122,7 +122,7 @@ Suite momentum_suite(const SuiteParams& params) {
     std::vector<fs::path> files;
     for (const auto& [scene, group] : by_group(rows)) {
       const SummaryRow& first = *group.front();
-      files.push_back(plot_time_series(ctx, scene + "-momentum.png",
+      files.push_back(plot_time_series(ctx, scene + "-momentum",
                                        scene + ": " + first.text("momentum_map") + " error, " + steps_text(group),
                                        system_labels(first.text("system")).momentum, "momentum_error", true, group));
     }

@@ -551,16 +551,17 @@ Suite sensitivity_suite(const SuiteParams& params) {
         for (const SummaryRow* r : members) {
           if (r->text("status") != "completed") continue;
           const auto [it, inserted] = where.emplace(r->text("label"), curves.size());
+          // One method at several steps or tolerances: each curve takes its label's style.
           if (inserted) curves.push_back({r->text("label"), {}});
           if (r->number("T") && r->number(column)) curves[it->second].points.emplace_back(*r->number("T"), *r->number(column));
         }
         return curves;
       };
       const std::string system = members.front()->text("system");
-      files.push_back(plot_xy(ctx, scene + "-fd-error.png",
+      files.push_back(plot_xy(ctx, scene + "-fd-error",
                               system + ": transition matrix vs central differences of the method's own flow",
                               "horizon T [s]", "|Φ - Φ_{FD}|_F / |Φ_{FD}|_F", curves_of("fd_error")));
-      files.push_back(plot_xy(ctx, scene + "-continuous-difference.png",
+      files.push_back(plot_xy(ctx, scene + "-continuous-difference",
                               system + ": transition matrix vs CVODES at rtol " + shortest(kReferenceRtol),
                               "horizon T [s]", "|Φ - Φ_{ref}|_F / |Φ_{ref}|_F", curves_of("continuous_difference")));
       // Growth of the sensitivities themselves, once per horizon.
@@ -570,7 +571,7 @@ Suite sensitivity_suite(const SuiteParams& params) {
         if (r->number("T") && r->number("phi_norm")) by_T[*r->number("T")] = *r->number("phi_norm");
       }
       for (const auto& [T, n] : by_T) growth.points.emplace_back(T, n);
-      files.push_back(plot_xy(ctx, scene + "-growth.png", system + ": size of the transition matrix d z(T) / d z(0)",
+      files.push_back(plot_xy(ctx, scene + "-growth", system + ": size of the transition matrix d z(T) / d z(0)",
                               "horizon T [s]", "|Φ|_2 (z = [η; δΩ]: rad, rad/s)", {growth}));
     }
     // Observed order of the LGVI's continuous difference between successive h at each T.

@@ -491,18 +491,18 @@ Suite shooting_suite(const SuiteParams& params) {
   s.render = [](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
     std::vector<fs::path> files;
     for (const auto& [system, members] : by_group(rows)) {
-      files.push_back(plot_iterations(ctx, system + "-violation.png",
+      files.push_back(plot_iterations(ctx, system + "-violation",
                                       system + ": terminal violation against the outer iteration",
                                       violation_label(system),
                                       "violation", members));
       const bool has_conditions = std::any_of(members.begin(), members.end(),
                                               [](const SummaryRow* r) { return r->number("cond_max").has_value(); });
       if (!has_conditions) continue;  // the direct method forms no Newton matrix
-      files.push_back(plot_iterations(ctx, system + "-cond-inverted.png",
+      files.push_back(plot_iterations(ctx, system + "-cond-inverted",
                                       system + ": condition number of the Newton matrix inverted (shape block when "
                                                "decomposed)",
                                       "2-norm condition number", "cond_inverted", members));
-      files.push_back(plot_iterations(ctx, system + "-cond-full.png",
+      files.push_back(plot_iterations(ctx, system + "-cond-full",
                                       system + ": condition number of the full sensitivity dr/dλ_0",
                                       "2-norm condition number", "cond_sensitivity", members));
     }

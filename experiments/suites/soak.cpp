@@ -147,8 +147,10 @@ Suite soak_suite(const SuiteParams& params) {
     std::vector<fs::path> files = {write_text_file(ctx, "soak-table.md", table)};
     std::vector<const SummaryRow*> all;
     for (const SummaryRow& r : rows) all.push_back(&r);
-    files.push_back(plot_time_series(ctx, "soak-energy.png", "energy error of the symmetric LGVI, every system",
-                                     "relative energy error", "energy_error", true, all));
+    // One curve per system, each labelled by its scene and styled by its system (one method).
+    files.push_back(plot_time_series(ctx, "soak-energy", "energy error of the symmetric LGVI (order 2), every system",
+                                     "|E - E_0| (each system's energy unit)", "energy_error", true, all,
+                                     CurvesBy::System));
     return files;
   };
   return s;

@@ -369,7 +369,7 @@ SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics)
     const std::string evaluations_label = "evaluations (baselines: RHS calls; LGVI: substeps)";
     for (const auto& [group, members] : groups) {
       const SummaryRow& first = *members.front();
-      const std::string horizon = "T = " + first.text("t_final");
+      const std::string horizon = "T = " + suites::title_number(first, "t_final");
       for (const MetricView& m : kMetricViews) {
         if (!has(metrics, m.metric)) continue;
         std::string title = group + ": " + m.what + " over " + horizon + " vs cost";
@@ -378,7 +378,7 @@ SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics)
         if (timed) axes.emplace_back("integrator_seconds_min", "time");
         axes.emplace_back("evaluations", "evaluations");
         for (const auto& [x, suffix] : axes) {
-          const fs::path png = suites::plot_xy(ctx, group + "-" + m.file + "-" + suffix + ".png", title,
+          const fs::path png = suites::plot_xy(ctx, group + "-" + m.file + "-" + suffix, title,
                                                x == "evaluations" ? evaluations_label : time_label, m.ylabel,
                                                suites::curves_by_label(members, x, m.column));
           if (!png.empty()) files.push_back(png);

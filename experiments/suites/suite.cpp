@@ -432,7 +432,7 @@ std::vector<SummaryRow> read_summary_csv(const fs::path& file) {
 std::vector<fs::path> render_suite(const Suite& suite, const SuiteOptions& options) {
   if (!suite.render) return {};
   const std::vector<SummaryRow> rows = read_summary_csv(options.out_dir / "summary.csv");
-  std::vector<fs::path> files = suite.render({options.out_dir, options.out_dir, options.plots_dir, options.gnuplot}, rows);
+  std::vector<fs::path> files = suite.render({options.out_dir, options.out_dir, options.plots_dir, options.gnuplot, options.format}, rows);
   std::erase_if(files, [](const fs::path& p) { return p.empty(); });  // figures without data
   return files;
 }

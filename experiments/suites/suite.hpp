@@ -48,6 +48,7 @@
 #include <vector>
 
 #include "experiments/output/fields.hpp"
+#include "experiments/output/plot.hpp"
 #include "experiments/suites/journal.hpp"
 
 namespace lgvi::experiments {
@@ -206,6 +207,10 @@ struct RenderContext {
   std::filesystem::path data_dir;   ///< what the rows' csv_path is relative to
   std::filesystem::path plots_dir;  ///< gnuplot scripts
   std::string gnuplot;
+  FigureFormat format = FigureFormat::Png;  ///< the figures' file format
+
+  /// out_dir / (name + the format's extension): the file of the figure `name`.
+  std::filesystem::path figure(const std::string& name) const { return out_dir / (name + figure_extension(format)); }
 };
 
 /// Draws a suite's figures and writes its tables from the summary rows (case order) and the
@@ -271,6 +276,7 @@ struct SuiteOptions {
   std::filesystem::path scenes_dir;
   std::filesystem::path plots_dir;
   std::string gnuplot;
+  FigureFormat format = FigureFormat::Png;  ///< the figures' file format (--format)
   bool plots = true;  ///< render figures after the run (sharded runs never do)
   std::string command_line;
   Shard shard;

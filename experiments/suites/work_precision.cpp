@@ -52,7 +52,7 @@ Suite work_precision_suite(const SuiteParams& params) {
         const std::vector<XyCurve> curves = curves_by_label(group, f.x, f.y);
         const std::string title = scene + ": " + (std::string(f.y) == "final_error" ? "final-state error" : "energy error") +
                                   " vs cost (reference: " + reference + ")";
-        files.push_back(plot_xy(ctx, scene + "-" + f.name + ".png", title, f.xlabel, f.ylabel, curves));
+        files.push_back(plot_xy(ctx, scene + "-" + f.name, title, f.xlabel, f.ylabel, curves));
       }
     }
     std::string table = "# Work-precision: cheapest method per accuracy level\n\n"

@@ -138,10 +138,10 @@ TEST(FileSafety, GnuplotWritesOnlyTheFilesCreatedForIt) {
   const fs::path out = dir.work();
   const fs::path fake = dir.scenes() / "gnuplot";
   // A gnuplot that swaps every temporary in the output directory for a link to the victim, then
-  // writes a complete PNG to its output argument ($3, as `gnuplot -c SCRIPT OUT ...` gives it).
+  // writes a complete PNG to its output argument ($5, as `gnuplot -e FORMAT -c SCRIPT OUT ...` gives it).
   write_text(fake, "#!/bin/sh\nfor f in " + test::shell_quote(out.string()) +
                        "/.lgvi-tmp-*; do rm -f \"$f\"; ln -s " + test::shell_quote(victim.path.string()) +
-                       " \"$f\"; done\nprintf '\\211PNG\\r\\n\\032\\nxxxx\\0\\0\\0\\0IEND\\256\\102\\140\\202' > \"$3\"\n"
+                       " \"$f\"; done\nprintf '\\211PNG\\r\\n\\032\\nxxxx\\0\\0\\0\\0IEND\\256\\102\\140\\202' > \"$5\"\n"
                        "echo swapped >&2\n");
   fs::permissions(fake, fs::perms::owner_all);
   const fs::path csv = dir.capture() / "e.csv";
