@@ -27,7 +27,7 @@ t_final = STATS_max
 load plots_dir."ocp_figure.gp"
 
 # (a) maneuver
-set title "(a) maneuver (orbital plane)"
+set title "(a) maneuver (orbit plane)"
 set xlabel "x_1"
 set ylabel "x_2"
 set size ratio -1

@@ -113,7 +113,7 @@ SuiteCase simulate_case(const std::string& id, const std::string& group, Simulat
 namespace {
 
 /// Characters per title line of the 6.5 in wide figures (9 pt text).
-constexpr std::size_t kTitleWidth = 90;
+constexpr std::size_t kTitleWidth = 72;
 
 }  // namespace
 
