@@ -314,6 +314,26 @@ void write_summaries_from(const fs::path& out_dir, const std::string& header,
   }
   csv.commit();
   jsonl.commit();
+
+  // The all suite's cases are PART/ID: each part's folder gets its own summary of its rows.
+  std::map<std::string, std::vector<const JournalEntry*>> parts;
+  for (const auto& item : entries) {
+    const std::size_t slash = item.second.id.find('/');
+    if (slash != std::string::npos) parts[item.second.id.substr(0, slash)].push_back(&item.second);
+  }
+  for (const auto& [part, rows] : parts) {
+    if (!fs::is_directory(out_dir / part)) continue;
+    AtomicFile part_csv(out_dir / part / "summary.csv");
+    AtomicFile part_jsonl(out_dir / part / "summary.jsonl");
+    part_csv.write("# rows: the cases " + part + "/* of the run in the parent directory; their file paths are relative to it\n");
+    if (!header.empty()) part_csv.write(header + "\n");
+    for (const JournalEntry* e : rows) {
+      part_csv.write(e->csv_line + "\n");
+      part_jsonl.write(e->jsonl_line + "\n");
+    }
+    part_csv.commit();
+    part_jsonl.commit();
+  }
 }
 
 }  // namespace lgvi::experiments

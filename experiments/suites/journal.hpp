@@ -123,7 +123,9 @@ std::map<std::size_t, JournalEntry> read_journal(const std::filesystem::path& ou
 void rewrite_journal(const std::filesystem::path& out_dir, const std::map<std::size_t, JournalEntry>& entries);
 
 /// Writes summary.csv (the header line `header` first unless empty) and summary.jsonl from the
-/// entries in index order, atomically. Throws OutputError.
+/// entries in index order, atomically; and for the all suite, whose case ids are PART/ID, the
+/// same two files in each existing folder PART with its rows alone (a first comment line says
+/// that their paths are relative to out_dir). Throws OutputError.
 void write_summaries_from(const std::filesystem::path& out_dir, const std::string& header,
                           const std::map<std::size_t, JournalEntry>& entries);
 

@@ -10,7 +10,8 @@
 //                      metadata: suite, form, version, units and the columns' meanings
 //                      (summary_metadata.hpp; read_summary_csv skips it);
 //   summary.jsonl      one JSON object per case per line (every field the job reported), which
-//                      concatenates the same way;
+//                      concatenates the same way; the all suite also writes both for each
+//                      suite's rows into its subdirectory (write_summaries_from);
 //   figures/tables     rendered from summary.csv read back (render_suite), so a merged sharded
 //                      run is rendered by `suite NAME --render-only --out MERGED`;
 //   suite-run.json, suite-journal.jsonl   the manifest and the per-case journal from which

@@ -929,6 +929,36 @@ TEST(SuiteJobs, AnyJobRunsRecordsAndAnExceptionBecomesAnErrorRow) {
   EXPECT_NE(progress.str().find("UNEXPECTED"), std::string::npos) << progress.str();
 }
 
+TEST(SuiteSummary, AllSuitesPartsEachGetTheirOwnSummaryOfTheirRows) {
+  TempDir dir;
+  Suite s;
+  s.name = "all";
+  s.columns = {"iterations", "residual"};
+  for (const std::string part : {"first", "second"}) {
+    fs::create_directories(dir.work() / "res" / part);
+    s.cases.push_back({part + "/writes", part, {}, Expectation::Complete, std::make_shared<ToyJob>(ToyJob::Kind::Writes)});
+    s.cases.push_back({part + "/fails", part, {}, Expectation::Fail, std::make_shared<ToyJob>(ToyJob::Kind::Fails)});
+  }
+  experiments::SuiteOptions options;
+  options.out_dir = dir.work() / "res";
+  options.jobs = 2;
+  std::ostringstream progress;
+  ASSERT_EQ(experiments::run_suite(s, options, progress).unexpected(), 0u) << progress.str();
+  const auto all = experiments::read_summary_csv(dir.work() / "res" / "summary.csv");
+  ASSERT_EQ(all.size(), 4u);
+  for (const std::string part : {"first", "second"}) {
+    const auto rows = experiments::read_summary_csv(dir.work() / "res" / part / "summary.csv");
+    ASSERT_EQ(rows.size(), 2u) << part;
+    EXPECT_EQ(rows[0].text("case"), part + "/writes");
+    EXPECT_EQ(rows[0].number("iterations"), 7.0);
+    EXPECT_EQ(rows[1].text("case"), part + "/fails");
+    EXPECT_EQ(rows[1].text("status"), "shooting-stalled");
+    const std::string jsonl = read_text(dir.work() / "res" / part / "summary.jsonl");
+    EXPECT_EQ(std::count(jsonl.begin(), jsonl.end(), '\n'), 2) << jsonl;
+    EXPECT_NE(jsonl.find(part + "/fails"), std::string::npos) << jsonl;
+  }
+}
+
 // --- timing -------------------------------------------------------------------------------------
 
 TEST(SuiteTiming, PassesInterleaveTheComputationsAndRepeatShortOnesUntil20msAreMeasured) {
