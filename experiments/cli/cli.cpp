@@ -45,13 +45,6 @@ constexpr const char* kTimingJobsHelp =
     "Timed cases measured at once, at most one per core (default: --jobs); 1 keeps a core for the rest of the "
     "machine: the most reproducible timings on a shared machine (docs/suites.md, Timing)";
 
-/// Parses --format, naming the option in the error.
-FigureFormat parse_format_option(const std::string& text) {
-  const std::optional<FigureFormat> format = figure_format_named(text);
-  if (!format) throw InvalidInput("--format", "must be png, pdf or svg (got '" + text + "')");
-  return *format;
-}
-
 /// Parses --form, naming the option in the error.
 LgviForm parse_form_option(const std::string& text) {
   try {
@@ -178,7 +171,7 @@ class CommandLine {
   std::unique_ptr<Method> method;  ///< simulate
   std::vector<Degradation> degradations_planted;  ///< validate
   Shard shard;                     ///< suite, study
-  FigureFormat format = FigureFormat::Png;  ///< suite, study
+  std::vector<FigureFormat> formats = {FigureFormat::Png};  ///< suite, study
 };
 
 std::optional<int> CommandLine::parse(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -249,7 +242,7 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv, std::os
   suite_cmd->add_flag("--render-only", render_only,
                       "Only draw the figures and tables from OUT/summary.csv and the case CSVs (merged shards)");
   suite_cmd->add_flag("--no-plots", no_plots, "Skip the gnuplot figures and tables");
-  suite_cmd->add_option("--format", figure_format, "Figure file format: png, pdf or svg")->capture_default_str();
+  suite_cmd->add_option("--format", figure_format, "Figure file formats: png, pdf, svg or a list (png,pdf)")->capture_default_str();
   suite_cmd->add_option("--plots-dir", plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
   suite_cmd->add_option("--gnuplot", gnuplot, "gnuplot executable")->capture_default_str();
   suite_cmd->add_option("--check-against", check_against,
@@ -279,7 +272,7 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv, std::os
   study_cmd->add_flag("--resume", resume, "Continue the run in OUT: keep the finished cases whose files verify");
   study_cmd->add_flag("--render-only", render_only, "Only draw the figures and tables from OUT/summary.csv");
   study_cmd->add_flag("--no-plots", no_plots, "Skip the gnuplot figures and tables");
-  study_cmd->add_option("--format", figure_format, "Figure file format: png, pdf or svg")->capture_default_str();
+  study_cmd->add_option("--format", figure_format, "Figure file formats: png, pdf, svg or a list (png,pdf)")->capture_default_str();
   study_cmd->add_option("--plots-dir", plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
   study_cmd->add_option("--gnuplot", gnuplot, "gnuplot executable")->capture_default_str();
 
@@ -356,7 +349,7 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv, std::os
   }
   if (suite_cmd->parsed() || study_cmd->parsed()) {
     shard = parse_shard(shard_text);
-    format = parse_format_option(figure_format);
+    formats = figure_formats_named("--format", figure_format);
   }
   return std::nullopt;
 }
@@ -445,7 +438,7 @@ int CommandLine::run(std::ostream& out, std::ostream& err) {
     options.scenes_dir = scenes_dir;
     options.plots_dir = plots_dir;
     options.gnuplot = gnuplot;
-    options.format = format;
+    options.formats = formats;
     options.plots = !no_plots;
     options.command_line = command_line;
     options.shard = shard;

@@ -115,7 +115,7 @@ CLI::App* add_figures_command(CLI::App& app, FiguresCommand& o) {
   for (const auto& [name, number] : figure_systems()) names.push_back(name);
   cmd->add_option("--only", o.only, "Examples to draw: dumbbell, pendulum, cart-pendulum, connected-bodies")
       ->check(CLI::IsMember(names));
-  cmd->add_option("--format", o.format, "Figure file format: png, pdf or svg")->capture_default_str();
+  cmd->add_option("--format", o.format, "Figure file formats: png, pdf, svg or a list (png,pdf)")->capture_default_str();
   o.plots_dir = default_plots_dir().string();
   o.gnuplot = default_gnuplot();
   cmd->add_option("--plots-dir", o.plots_dir, "Directory of the gnuplot scripts")->capture_default_str();
@@ -125,9 +125,11 @@ CLI::App* add_figures_command(CLI::App& app, FiguresCommand& o) {
 
 int run_figures_command(const FiguresCommand& o, const std::string& command_line, std::ostream& out,
                         std::ostream& err) {
-  const std::optional<FigureFormat> format = figure_format_named(o.format);
-  if (!format) {
-    err << "error: --format: must be png, pdf or svg (got '" << o.format << "')\n" << std::flush;
+  std::vector<FigureFormat> formats;
+  try {
+    formats = figure_formats_named("--format", o.format);
+  } catch (const InvalidInput& e) {
+    err << "error: " << e.what() << "\n" << std::flush;
     return 1;
   }
   const fs::path out_dir(o.out);
@@ -156,7 +158,7 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
       if (code == 1) return 1;
       if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
     }
-    // One column wide (experiments/plots/ocp_figure.gp): lines of at most 50 characters.
+    // One column wide (experiments/plots/ocp_figure.gp): lines of at most kTitleWidth characters.
     const RunValues run = run_values(ocp_output_file(data_dir, system, "summary.json"));
     const std::string title = wrap_text(figure_title(scene, number), kTitleWidth) + "\n" +
                               wrap_text(figure_values(scene, run), kTitleWidth);
@@ -172,11 +174,13 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
       }
     }
     verify_ocp_run(data_dir, system);  // the files above are one run's
-    std::string name = "fig";
-    name.append(std::to_string(number)).append("-").append(system).append(figure_extension(*format));
-    const fs::path figure = out_dir / name;
-    run_gnuplot_script(o.gnuplot, fs::path(o.plots_dir) / script_name(system), figure, args);
-    out << "wrote " << figure.string() << "\n" << std::flush;
+    for (const FigureFormat format : formats) {
+      std::string name = "fig";
+      name.append(std::to_string(number)).append("-").append(system).append(figure_extension(format));
+      const fs::path figure = out_dir / name;
+      run_gnuplot_script(o.gnuplot, fs::path(o.plots_dir) / script_name(system), figure, args);
+      out << "wrote " << figure.string() << "\n" << std::flush;
+    }
   }
   return status;
 }

@@ -16,6 +16,7 @@
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/data_dir.hpp"
 #include "experiments/output/interrupt.hpp"
+#include "lgvi/inertia.hpp"
 
 extern char** environ;
 
@@ -91,6 +92,26 @@ std::optional<FigureFormat> figure_format_named(std::string_view name) {
     if (name == figure_format_name(f)) return f;
   }
   return std::nullopt;
+}
+
+std::vector<FigureFormat> figure_formats_named(const std::string& option, std::string_view list) {
+  std::vector<FigureFormat> formats;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t comma = list.find(',', begin);
+    const std::string_view word = list.substr(begin, comma == std::string_view::npos ? std::string_view::npos : comma - begin);
+    const std::optional<FigureFormat> format = figure_format_named(word);
+    if (!format) {
+      throw InvalidInput(option, "must be png, pdf or svg, or a comma-separated list of them (got '" + std::string(list) + "')");
+    }
+    if (std::find(formats.begin(), formats.end(), *format) != formats.end()) {
+      throw InvalidInput(option, "names " + std::string(word) + " twice (got '" + std::string(list) + "')");
+    }
+    formats.push_back(*format);
+    if (comma == std::string_view::npos) break;
+    begin = comma + 1;
+  }
+  return formats;
 }
 
 std::string figure_extension(FigureFormat format) { return std::string(".") + figure_format_name(format); }

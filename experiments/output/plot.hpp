@@ -43,6 +43,10 @@ enum class FigureFormat { Png, Pdf, Svg };
 const char* figure_format_name(FigureFormat format);
 /// The format named "png", "pdf" or "svg"; nullopt for any other text.
 std::optional<FigureFormat> figure_format_named(std::string_view name);
+/// The formats of a comma-separated list ("png", "png,pdf"): each named once, in the list's
+/// order. Throws InvalidInput naming `option` ("--format") and the word that is not a format, a
+/// repeated one or an empty list.
+std::vector<FigureFormat> figure_formats_named(const std::string& option, std::string_view list);
 /// The file name extension with its dot: ".png", ".pdf", ".svg".
 std::string figure_extension(FigureFormat format);
 /// The format of a figure file by its extension: .pdf, .svg; PNG for any other.

@@ -19,6 +19,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <exception>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -432,8 +433,35 @@ std::vector<SummaryRow> read_summary_csv(const fs::path& file) {
 std::vector<fs::path> render_suite(const Suite& suite, const SuiteOptions& options) {
   if (!suite.render) return {};
   const std::vector<SummaryRow> rows = read_summary_csv(options.out_dir / "summary.csv");
-  std::vector<fs::path> files = suite.render({options.out_dir, options.out_dir, options.plots_dir, options.gnuplot, options.format}, rows);
-  std::erase_if(files, [](const fs::path& p) { return p.empty(); });  // figures without data
+  // One pass per format, up to `jobs` of them at once: each pass's gnuplot processes and
+  // temporaries are its own, and a table two passes write is the same text renamed into place.
+  const std::size_t n = options.formats.size();
+  std::vector<std::vector<fs::path>> drawn(n);
+  std::vector<std::exception_ptr> errors(n);
+  const auto pass = [&](std::size_t i) {
+    try {
+      drawn[i] = suite.render({options.out_dir, options.out_dir, options.plots_dir, options.gnuplot, options.formats[i]}, rows);
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  };
+  const std::size_t at_once = std::max<std::size_t>(1, std::min<std::size_t>(options.jobs, n));
+  for (std::size_t first = 0; first < n; first += at_once) {
+    std::vector<std::thread> others;
+    for (std::size_t i = first + 1; i < std::min(n, first + at_once); ++i) others.emplace_back(pass, i);
+    pass(first);
+    for (std::thread& t : others) t.join();
+  }
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+  std::vector<fs::path> files;
+  for (std::vector<fs::path>& pass_files : drawn) {
+    for (fs::path& f : pass_files) {
+      // Empty: a figure without data.
+      if (!f.empty() && std::find(files.begin(), files.end(), f) == files.end()) files.push_back(std::move(f));
+    }
+  }
   return files;
 }
 

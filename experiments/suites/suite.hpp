@@ -277,7 +277,8 @@ struct SuiteOptions {
   std::filesystem::path scenes_dir;
   std::filesystem::path plots_dir;
   std::string gnuplot;
-  FigureFormat format = FigureFormat::Png;  ///< the figures' file format (--format)
+  /// The figures' file formats (--format png,pdf): every figure drawn in each.
+  std::vector<FigureFormat> formats = {FigureFormat::Png};
   bool plots = true;  ///< render figures after the run (sharded runs never do)
   std::string command_line;
   Shard shard;

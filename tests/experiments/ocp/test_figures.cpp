@@ -3,6 +3,7 @@
 // run in the harness (README's main command), not here.
 #include <gtest/gtest.h>
 
+#include "experiments/output/plot.hpp"
 #include "tests/experiments/cli/cli_support.hpp"
 
 namespace lgvi::test {
@@ -30,10 +31,13 @@ TEST(FiguresCommand, SolvesAndDrawsThePendulumFigure) {
   }
 
   // Redrawing from those files (--from) gives the figure again without solving.
-  const CliResult again = run_testbed(dir, {"figures", "--only", "pendulum", "--from", "figs", "--out", "redrawn"});
+  // With --format png,pdf both files, each complete.
+  const CliResult again =
+      run_testbed(dir, {"figures", "--only", "pendulum", "--from", "figs", "--out", "redrawn", "--format", "png,pdf"});
   ASSERT_EQ(again.exit_code, 0) << again.err;
   EXPECT_EQ(again.out.find("ocp pendulum:"), std::string::npos) << again.out;
   EXPECT_TRUE(is_png(dir.work() / "redrawn" / "fig3-pendulum.png"));
+  EXPECT_TRUE(experiments::is_complete_pdf(dir.work() / "redrawn" / "fig3-pendulum.pdf"));
 }
 
 TEST(FiguresCommand, MissingInputsAreOneLineErrors) {

@@ -159,6 +159,21 @@ TEST(FigureFormat, EveryFormatIsDrawnAndPublished) {
   }
 }
 
+TEST(FigureFormat, AListNamesEachFormatOnceInItsOrder) {
+  EXPECT_EQ(figure_formats_named("--format", "png"), std::vector<FigureFormat>{FigureFormat::Png});
+  EXPECT_EQ(figure_formats_named("--format", "pdf,png,svg"),
+            (std::vector<FigureFormat>{FigureFormat::Pdf, FigureFormat::Png, FigureFormat::Svg}));
+  for (const char* bad : {"", "png,", ",pdf", "png,,pdf", "PNG", "png pdf"}) {
+    EXPECT_THROW(figure_formats_named("--format", bad), InvalidInput) << bad;
+  }
+  try {
+    figure_formats_named("--format", "png,pdf,png");
+    ADD_FAILURE() << "a repeated format was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_STREQ(e.what(), "--format: names png twice (got 'png,pdf,png')");
+  }
+}
+
 TEST(FigureFormat, ABadFormatIsOneErrorLine) {
   test::TempDir dir;
   for (const std::vector<std::string>& args :
@@ -168,7 +183,8 @@ TEST(FigureFormat, ABadFormatIsOneErrorLine) {
     const test::CliResult r = test::run_testbed(dir, args);
     EXPECT_EQ(r.exit_code, 1) << args.front() << ": " << r.err;
     ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
-    EXPECT_EQ(r.err_lines()[0], "error: --format: must be png, pdf or svg (got 'jpeg')") << args.front();
+    EXPECT_EQ(r.err_lines()[0], "error: --format: must be png, pdf or svg, or a comma-separated list of them (got 'jpeg')")
+        << args.front();
   }
 }
 
