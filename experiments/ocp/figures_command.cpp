@@ -16,6 +16,8 @@
 #include "experiments/scene/ocp_scene.hpp"
 #include "experiments/input/paper_values.hpp"
 #include "experiments/output/plot.hpp"
+#include "experiments/systems/ocp.hpp"
+#include "experiments/systems/systems.hpp"
 
 namespace lgvi::experiments {
 
@@ -23,12 +25,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// "Fig. N: " and the scene's description (the ocp scenes describe their problem and method).
+/// "Fig. N: " (a paper's figure, number > 0) and the scene's description (the ocp scenes
+/// describe their problem and method), or its file's name when it has none.
 std::string figure_title(const Scene& scene, int number) {
+  const std::string what = scene.description.empty() ? scene.file.filename().string() : scene.description;
+  if (number <= 0) return what;
   // Appends only: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string.
   std::string n = "Fig. ";
   n.append(std::to_string(number)).append(": ");
-  return n + scene.description;
+  return n + what;
 }
 
 /// Characters per title line: the titles are set in 6 pt (ocp_figure.gp), about 4 pt a character
@@ -72,23 +77,15 @@ RunValues run_values(const fs::path& summary_file) {
   return v;
 }
 
-/// Last title line: the run's cost and terminal violation, then the paper's
-/// (validation/paper_values.toml). Without a readable summary, the paper's values alone.
+/// Last title line: the run's cost and terminal violation, then the paper's when the scene names
+/// its example (validation/paper_values.toml). Without a readable summary, "-" for the run's.
 std::string figure_values(const Scene& scene, const RunValues& run) {
+  if (scene.ocp->paper.empty()) return "cost " + run.cost + ", violation " + run.violation;
   const PaperExample* example = paper_values().find(scene.ocp->paper);
   if (example == nullptr) throw InvalidInput(scene.file.string(), "ocp.paper: names no example of the paper");
   const PaperExample& paper = *example;
   return "cost " + run.cost + ", violation " + run.violation + " (paper: " + number_text(paper.cost, 6) +
          ", " + number_text(paper.terminal_violation, 3) + ")";
-}
-
-std::string script_name(const std::string& label) {
-  std::string s = "fig_";
-  s.append(label).append(".gp");
-  for (char& c : s) {
-    if (c == '-') c = '_';
-  }
-  return s;
 }
 
 fs::path require_file(const fs::path& file) {
@@ -107,7 +104,10 @@ std::vector<std::pair<std::string, int>> figure_systems() {
 
 CLI::App* add_figures_command(CLI::App& app, FiguresCommand& o) {
   CLI::App* cmd = app.add_subcommand(
-      "figures", "Regenerate the paper's Figs. 2-5 (PNG, PDF or SVG) from the four optimal control examples");
+      "figures", "Draw the paper's Figs. 2-5 from its four optimal control examples, or the solution of any [ocp] scene");
+  cmd->add_option("scenes", o.scenes,
+                  "Scenes with an [ocp] table to solve and draw (a path, or a name as `ocp` takes it); none: the "
+                  "paper's four examples");
   cmd->add_option("--out", o.out, "Output directory of the ocp files and the figures")->capture_default_str();
   cmd->add_option("--from", o.from,
                   "Draw from the ocp-SYSTEM-*.csv files in this directory instead of solving again");
@@ -141,44 +141,82 @@ int run_figures_command(const FiguresCommand& o, const std::string& command_line
       return 1;
     }
   }
+  // What to draw: the scenes named, else the paper's four examples (--only: some of them).
+  struct Drawing {
+    std::string argument;  ///< the scene as `ocp` takes it (a name or a path)
+    int number;            ///< the paper's figure number; 0 for another scene
+  };
+  std::vector<Drawing> drawings;
+  if (!o.scenes.empty()) {
+    if (!o.only.empty()) {
+      err << "error: --only: chooses among the paper's examples; with scenes named, name only those\n" << std::flush;
+      return 1;
+    }
+    for (const std::string& s : o.scenes) drawings.push_back({s, 0});
+  } else {
+    for (const auto& [system, number] : figure_systems()) {
+      if (o.only.empty() || std::find(o.only.begin(), o.only.end(), system) != o.only.end()) {
+        drawings.push_back({system, number});
+      }
+    }
+  }
+
+  // Every scene read and checked before anything is written.
+  std::vector<Scene> scenes;
+  for (const Drawing& d : drawings) {
+    scenes.push_back(load_scene(resolve_ocp_scene(d.argument, default_scenes_dir())));
+    if (!scenes.back().ocp) {
+      throw SceneError(scenes.back().file.string(), "ocp",
+                       "is required (the figure's optimal control problem: an [ocp] table, experiments/scenes/README.md)");
+    }
+  }
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) throw OutputError(out_dir.string() + ": cannot create the output directory: " + ec.message());
 
   int status = 0;
-  for (const auto& [system, number] : figure_systems()) {
-    if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), system) == o.only.end()) continue;
-    const Scene scene = load_scene(resolve_ocp_scene(system, default_scenes_dir()));
-    if (!scene.ocp) throw SceneError(scene.file.string(), "ocp", "is required (the figure's optimal control problem)");
+  for (std::size_t i = 0; i < drawings.size(); ++i) {
+    const Drawing& d = drawings[i];
+    const Scene& scene = scenes[i];
+    const std::string label = ocp_label(scene);
+    // A scene named by its file is drawn as the paper's figure when it is one of its examples.
+    int number = d.number;
+    for (const auto& [system, n] : figure_systems()) {
+      if (number == 0 && label == system && scene.ocp->paper != "") number = n;
+    }
     if (o.from.empty()) {
       OcpCommand ocp;
-      ocp.system = system;
+      ocp.system = d.argument;
       ocp.out = out_dir.string();
       const int code = run_ocp_command(ocp, command_line, out, err);
       if (code == 1) return 1;
       if (code != 0) status = 2;  // not converged: the files say why; the figure shows it
     }
     // One column wide (experiments/plots/ocp_figure.gp): lines of at most kTitleWidth characters.
-    const RunValues run = run_values(ocp_output_file(data_dir, system, "summary.json"));
+    const RunValues run = run_values(ocp_output_file(data_dir, label, "summary.json"));
     const std::string title = wrap_text(figure_title(scene, number), kTitleWidth) + "\n" +
                               wrap_text(figure_values(scene, run), kTitleWidth);
     std::vector<std::string> args = {title,
-                                     gnuplot_path(require_file(ocp_output_file(data_dir, system, "trajectory.csv"))),
-                                     gnuplot_path(require_file(ocp_output_file(data_dir, system, "history.csv")))};
+                                     gnuplot_path(require_file(ocp_output_file(data_dir, label, "trajectory.csv"))),
+                                     gnuplot_path(require_file(ocp_output_file(data_dir, label, "history.csv")))};
     if (scene.ocp->method == OcpMethod::Direct) {
-      args.push_back(gnuplot_path(require_file(ocp_output_file(data_dir, system, "knots.csv"))));
+      args.push_back(gnuplot_path(require_file(ocp_output_file(data_dir, label, "knots.csv"))));
       // The convergence panel draws the start whose solution the figure shows.
       if (run.best_start >= 0) {
         args.push_back(std::to_string(run.best_start));
         args.push_back(std::to_string(run.starts));
       }
     }
-    verify_ocp_run(data_dir, system);  // the files above are one run's
+    verify_ocp_run(data_dir, label);  // the files above are one run's
+    const std::string script = visit_binding(scene.model, [](auto, const auto& m) -> std::string {
+      return OcpBinding<std::decay_t<decltype(m)>>::figure_script;
+    });
     for (const FigureFormat format : formats) {
       std::string name = "fig";
-      name.append(std::to_string(number)).append("-").append(system).append(figure_extension(format));
+      if (number > 0) name.append(std::to_string(number));
+      name.append("-").append(label).append(figure_extension(format));
       const fs::path figure = out_dir / name;
-      run_gnuplot_script(o.gnuplot, fs::path(o.plots_dir) / script_name(system), figure, args);
+      run_gnuplot_script(o.gnuplot, fs::path(o.plots_dir) / script, figure, args);
       out << "wrote " << figure.string() << "\n" << std::flush;
     }
   }

@@ -6,7 +6,10 @@
 // Each figure has four panels: (a) the maneuver, (b) the controls (with the knots for the
 // direct method), (c) the convergence of the solver on semilog axes (with the condition numbers
 // for the indirect method), (d) the angular velocities. The panels are drawn by
-// experiments/plots/fig_SYSTEM.gp from the files `lgvi-testbed ocp SYSTEM` writes.
+// the system's script (OcpBinding<M>::figure_script: experiments/plots/fig_SYSTEM.gp) from the
+// files `lgvi-testbed ocp SCENE` writes. `figures SCENE.toml ...` draws any scene with an [ocp]
+// table the same way (a user's own problem: fig-LABEL.png, titled by its description, its cost
+// and violation beside the paper's when it names an example).
 #pragma once
 
 #include <iosfwd>
@@ -25,7 +28,9 @@ struct FiguresCommand {
   /// Empty: solve the optimal control problems first (`ocp SYSTEM` with its defaults, into
   /// `out`). Otherwise a directory holding the ocp-SYSTEM-*.csv files of earlier runs.
   std::string from;
-  std::vector<std::string> only;  ///< systems to draw; empty: all four
+  /// Scenes with an [ocp] table (paths, or names as `ocp` takes them); empty: the paper's four.
+  std::vector<std::string> scenes;
+  std::vector<std::string> only;  ///< of the paper's examples, the systems to draw; empty: all four
   std::string format = "png";     ///< the figures' file format: png, pdf or svg
   std::string plots_dir;
   std::string gnuplot;
@@ -38,9 +43,11 @@ std::vector<std::pair<std::string, int>> figure_systems();
 CLI::App* add_figures_command(CLI::App& app, FiguresCommand& options);
 
 /// Solves (unless options.from is set) and draws OUT/figN-SYSTEM.png (.pdf, .svg: options.format)
-/// for each chosen system. Returns 0 when every solve converged and every figure was drawn; 2
+/// for each chosen example of the paper, or OUT/fig-LABEL.png for each scene named (LABEL:
+/// ocp_label). Returns 0 when every solve converged and every figure was drawn; 2
 /// when a solve did not converge (its figure is still drawn from the files it wrote, which say
-/// why); 1 on bad input (one "error:" line on `err`: a --format other than png, pdf, svg). Throws OutputError when a file cannot be read or written.
+/// why); 1 on bad input (one "error:" line on `err`: a --format other than png, pdf, svg; scenes
+/// and --only together). Throws OutputError when a file cannot be read or written.
 int run_figures_command(const FiguresCommand& options, const std::string& command_line, std::ostream& out,
                         std::ostream& err);
 

@@ -12,6 +12,7 @@
 //                                  scene's [initial])
 //   system(m)                      the physical system the solver takes
 //   violation_label                axis label of the terminal violation (shooting suite)
+//   figure_script                  the gnuplot script of `figures` (experiments/plots/fig_*.gp)
 //   continuous                     a continuous (Pontryagin) shooting exists (baselines/pontryagin.hpp):
 //                                  solve_continuous(m, problem, options) and
 //                                  continuous_costate(lambda_0), the discrete multiplier on the
@@ -82,6 +83,8 @@ struct AttitudeOcpBinding {
     return p;
   }
   static constexpr const char* violation_label = "|r| = |[log(R_f^T R(T)); Ω(T) - Ω_f]| [rad, rad/s]";
+  /// The pendulum's figure draws any single attitude: R e3 and R e1, u, the shooting, Ω.
+  static constexpr const char* figure_script = "fig_pendulum.gp";
   static constexpr const char* violation_norm = "2-norm of [log(R_f^T R_N)^vee; Omega_N - Omega_f]";
   static constexpr std::array<ResidualPart, 2> violation_parts = {
       {{"violation_rotation", 0, 3}, {"violation_angular_velocity", 3, 3}}};
@@ -158,6 +161,7 @@ struct OcpBinding<DumbbellModel> {
     return p;
   }
   static constexpr const char* violation_label = "|r| [normalized: rad, length, rad/time, length/time]";
+  static constexpr const char* figure_script = "fig_dumbbell.gp";
   static constexpr const char* violation_norm =
       "2-norm of [log(R_f^T R_N)^vee; x_N - x_f; Omega_N - Omega_f; v_N - v_f]";
   static constexpr std::array<ResidualPart, 4> violation_parts = {{{"violation_rotation", 0, 3},
@@ -231,6 +235,7 @@ struct OcpBinding<CartPendulumModel> {
     return p;
   }
   static constexpr const char* violation_label = "|terminal constraints| [rad, m, rad/s, m/s]";
+  static constexpr const char* figure_script = "fig_cart_pendulum.gp";
   static constexpr bool continuous = false;
   static constexpr const char* violation_norm =
       "2-norm of [log(R_N^T R_f)^vee; q_N - q_f; Omega_N - Omega_f; qdot_N - qdot_f]";
@@ -283,6 +288,7 @@ struct OcpBinding<ConnectedBodiesModel> {
     return p;
   }
   static constexpr const char* violation_label = "|terminal constraints| [rad, rad/s]";
+  static constexpr const char* figure_script = "fig_connected_bodies.gp";
   static constexpr bool continuous = false;
   static constexpr const char* violation_norm =
       "2-norm of [log(R1_N^T R1_f)^vee; log(R2_N^T R2_f)^vee; Omega1_N - Omega1_f; "

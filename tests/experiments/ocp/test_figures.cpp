@@ -40,6 +40,32 @@ TEST(FiguresCommand, SolvesAndDrawsThePendulumFigure) {
   EXPECT_TRUE(experiments::is_complete_pdf(dir.work() / "redrawn" / "fig3-pendulum.pdf"));
 }
 
+TEST(FiguresCommand, DrawsAUsersOwnOcpScene) {
+  TempDir dir;
+  // A user's problem: the shipped free-body slew under another name and description, in the
+  // user's directory (no paper example: the title has its own cost and violation alone).
+  std::string text = read_text(experiments::default_scenes_dir() / "ocp-free-body-slew.toml");
+  const std::size_t at = text.find("description = ");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, text.find('\n', at) - at, "description = \"my slew\"");
+  write_text(dir.work() / "my-slew.toml", text);
+  const CliResult r = run_testbed(dir, {"figures", "my-slew.toml", "--out", "figs", "--format", "png,svg"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("ocp my-slew.toml: converged"), std::string::npos) << r.out;
+  EXPECT_TRUE(is_png(dir.work() / "figs" / "fig-my-slew.png"));
+  EXPECT_TRUE(experiments::is_complete_svg(dir.work() / "figs" / "fig-my-slew.svg"));
+  const std::string svg = read_text(dir.work() / "figs" / "fig-my-slew.svg");
+  EXPECT_NE(svg.find("my slew"), std::string::npos);
+  EXPECT_EQ(svg.find("paper"), std::string::npos);
+
+  // A scene without [ocp], and scenes with --only: one error line each, nothing written.
+  TempDir bad;
+  const CliResult no_ocp = run_testbed(bad, {"figures", "free-body", "--out", "figs"});
+  expect_bad_input(bad, no_ocp, {"free-body.toml", "ocp", "is required"});
+  const CliResult both = run_testbed(bad, {"figures", "pendulum", "--only", "pendulum", "--out", "figs"});
+  expect_bad_input(bad, both, {"--only"});
+}
+
 TEST(FiguresCommand, MissingInputsAreOneLineErrors) {
   TempDir dir;
   const CliResult no_dir = run_testbed(dir, {"figures", "--from", "nowhere", "--out", "figs"});
