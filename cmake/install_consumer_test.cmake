@@ -60,4 +60,23 @@ foreach(example free_body user_potential indirect_ocp)
   run(${WORK_DIR}/build/example_${example})
   message(STATUS "example_${example}:\n${run_output}")
 endforeach()
+
+# The core alone needs Eigen alone: a project asking for no component configures, builds and
+# runs with the optional libraries' dependencies unfindable.
+file(MAKE_DIRECTORY ${WORK_DIR}/core)
+file(WRITE ${WORK_DIR}/core/CMakeLists.txt "cmake_minimum_required(VERSION 3.25)
+project(lgvi_core_consumer LANGUAGES CXX)
+find_package(lgvi 0.1 REQUIRED)
+if(TARGET lgvi::direct OR TARGET lgvi::baselines)
+  message(FATAL_ERROR \"a component not requested was read\")
+endif()
+add_executable(user_potential ${SOURCE_DIR}/examples/user_potential.cpp)
+target_link_libraries(user_potential PRIVATE lgvi::lgvi)
+")
+run(${CMAKE_COMMAND} -S ${WORK_DIR}/core -B ${WORK_DIR}/core-build -DCMAKE_BUILD_TYPE=Release
+    -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_CXX_COMPILER=${COMPILER} ${consumer_flags} ${launcher}
+    -DCMAKE_DISABLE_FIND_PACKAGE_NLopt=ON -DCMAKE_DISABLE_FIND_PACKAGE_PkgConfig=ON
+    -DCMAKE_DISABLE_FIND_PACKAGE_SUNDIALS=ON -DCMAKE_DISABLE_FIND_PACKAGE_GSL=ON)
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/core-build -j2)
+run(${WORK_DIR}/core-build/user_potential)
 file(REMOVE_RECURSE ${WORK_DIR})
