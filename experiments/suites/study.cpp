@@ -19,6 +19,7 @@
 #include "experiments/input/toml_reader.hpp"
 #include "experiments/suites/journal.hpp"
 #include "experiments/suites/common.hpp"
+#include "experiments/systems/systems.hpp"
 
 namespace lgvi::experiments {
 
@@ -357,9 +358,27 @@ constexpr MetricView kMetricViews[] = {
 /// Levels of the cheapest-method tables.
 const std::vector<double> kLevels = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
 
+/// Each method's finest run of a group: of its completed runs (one curve label: method, model
+/// and form), the one with the most evaluations (the smallest step or tightest tolerance).
+std::vector<const SummaryRow*> finest_run_per_method(const std::vector<const SummaryRow*>& members) {
+  std::vector<const SummaryRow*> finest;
+  for (const SummaryRow* r : members) {
+    if (r->text("status") != "completed" || r->text("csv_path").empty()) continue;
+    const auto same = std::find_if(finest.begin(), finest.end(),
+                                   [&](const SummaryRow* f) { return f->text("label") == r->text("label"); });
+    if (same == finest.end()) {
+      finest.push_back(r);
+    } else if (r->number("evaluations").value_or(0.0) > (*same)->number("evaluations").value_or(0.0)) {
+      *same = r;
+    }
+  }
+  return finest;
+}
+
 /// Per group (scene and horizon): each metric against integrator time (metric "time") and
-/// against evaluations, log-log, one curve per method; a table of the cheapest method per level
-/// of each error metric.
+/// against evaluations, log-log, one curve per method; the errors over time of each method's
+/// finest run (energy, momentum map, orthogonality: those of the metrics named); a table of the
+/// cheapest method per level of each error metric.
 SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics) {
   return [name, metrics](const RenderContext& ctx, const std::vector<SummaryRow>& rows) {
     std::vector<fs::path> files;
@@ -383,6 +402,26 @@ SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics)
                                                suites::curves_by_label(members, x, m.column));
           if (!png.empty()) files.push_back(png);
         }
+      }
+      const std::vector<const SummaryRow*> finest = finest_run_per_method(members);
+      const SystemLabels labels = system_labels(first.text("system"));
+      const struct {
+        const char* metric;
+        const char* column;
+        const char* kind;
+        std::string what;
+        std::string ylabel;
+      } series[] = {
+          {"energy", "energy_error", "energy-over-time", "energy error", labels.energy},
+          {"momentum", "momentum_error", "momentum-over-time", first.text("momentum_map") + " error", labels.momentum},
+          {"orthogonality", "orthogonality_error", "orthogonality-over-time", "orthogonality error", "||R^T R - I||_F"},
+      };
+      for (const auto& f : series) {
+        if (!has(metrics, f.metric) || finest.empty()) continue;
+        const fs::path png = suites::plot_time_series(ctx, group + "-" + f.kind,
+                                                      group + ": " + f.what + " over time, each method's finest run",
+                                                      f.ylabel, f.column, false, finest);
+        if (!png.empty()) files.push_back(png);
       }
     }
     std::string table = "# " + name + ": cheapest method per accuracy level\n\n"

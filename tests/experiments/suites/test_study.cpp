@@ -216,6 +216,11 @@ TEST(StudyRun, ATinyStudyRunsEveryCaseAgainstTheExactSolutionAndDrawsItsFigures)
     EXPECT_EQ(read_text(dir.work() / "res" / png).substr(1, 3), "PNG") << png;
   }
   EXPECT_TRUE(fs::exists(dir.work() / "res" / "tiny-table.md"));
+  // The energy error over time of each method's finest run beside the work-precision figures;
+  // not the momentum map's or orthogonality's, which the metrics do not name.
+  EXPECT_EQ(read_text(dir.work() / "res" / "free-body-energy-over-time.png").substr(1, 3), "PNG");
+  EXPECT_FALSE(fs::exists(dir.work() / "res" / "free-body-momentum-over-time.png"));
+  EXPECT_FALSE(fs::exists(dir.work() / "res" / "free-body-orthogonality-over-time.png"));
   // No "time" metric: nothing timed serially, no timing columns.
   EXPECT_EQ(table.front().find("integrator_seconds_min"), std::string::npos);
 }
