@@ -346,10 +346,10 @@ class TomlReader {
       keys = {"type", "file"};
       c.kind = TimeControl::Kind::PiecewiseLinear;
     } else if (type == "pd") {
-      fail(prefix + ".type", "type \"pd\" (attitude feedback) is available for the free-body and pendulum systems only");
+      fail(prefix + ".type", "type \"pd\" (attitude feedback) is available for the free-body, pendulum and potential-body systems only");
     } else {
       fail(prefix + ".type", "unknown control type '" + type +
-                                 "' (expected one of: sinusoid, constant, piecewise-linear; pd for free-body and pendulum)");
+                                 "' (expected one of: sinusoid, constant, piecewise-linear; pd for free-body, pendulum and potential-body)");
     }
     for (auto&& entry : t) {
       const std::string_view key = entry.first.str();

@@ -43,6 +43,8 @@ struct OcpBinding {
   static constexpr bool indirect = false;
   static constexpr bool direct = false;
   static constexpr int nu = 0;
+  static constexpr const char* violation_label = "";
+  static constexpr const char* figure_script = "";
 };
 
 namespace ocp_binding_detail {

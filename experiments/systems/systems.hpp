@@ -15,13 +15,14 @@
 #include "experiments/systems/dumbbell.hpp"
 #include "experiments/systems/free_body.hpp"
 #include "experiments/systems/pendulum.hpp"
+#include "experiments/systems/potential_body.hpp"
 
 namespace lgvi::experiments {
 
 using Model = std::variant<FreeBodyModel, PendulumModel, DumbbellModel, CartPendulumModel,
-                           ConnectedBodiesModel>;
+                           ConnectedBodiesModel, PotentialBodyModel>;
 
-/// "free-body", "pendulum", "dumbbell", "cart-pendulum" or "connected-bodies".
+/// "free-body", "pendulum", "dumbbell", "cart-pendulum", "connected-bodies" or "potential-body".
 inline const char* system_name(const Model& model) {
   return std::visit([](const auto& m) { return std::decay_t<decltype(m)>::name; }, model);
 }

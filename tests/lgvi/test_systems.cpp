@@ -17,6 +17,7 @@
 #include "lgvi/so3.hpp"
 #include "lgvi/systems/dumbbell.hpp"
 #include "lgvi/systems/pendulum.hpp"
+#include "lgvi/systems/potential_body.hpp"
 #include "test_support.hpp"
 
 namespace lgvi {
@@ -363,6 +364,81 @@ TEST_P(DumbbellRejects, ThrowsInvalidInputNamingTheField) {
 
 INSTANTIATE_TEST_SUITE_P(Parameters, DumbbellRejects, testing::ValuesIn(bad_dumbbells()),
                          [](const testing::TestParamInfo<BadDumbbell>& i) { return i.param.name; });
+
+}  // namespace
+}  // namespace lgvi
+
+// --- a body in a parametric potential (lgvi/systems/potential_body.hpp) -------------------------
+
+namespace lgvi {
+namespace {
+
+/// The attitude spring (k = 0.5 toward a 90 deg turn about (1, 1, 1)) and a dipole in a field.
+std::vector<PotentialBody> potential_bodies() {
+  const Mat3 J = Vec3(0.13, 0.28, 0.17).asDiagonal();
+  const Mat3 target = so3::exp(M_PI / 2.0 * Vec3(1.0, 1.0, 1.0).normalized());
+  return {PotentialBody(J, AttitudeSpring{0.5, target}),
+          PotentialBody(J, MagneticDipole{Vec3(0.0, 0.3, 2.0), Vec3(0.05, -0.02, 0.1)})};
+}
+
+class PotentialBodyAt : public testing::TestWithParam<Attitude> {};
+
+// M = -dU/d eta, and eq. 13 with dU/dR by differences (both potentials are defined for any 3x3
+// matrix). Every derivative of U along a rotation is bounded by its amplitude (3k for the spring,
+// |m||B| for the dipole): the FD error is kFdTolerance relative to it.
+TEST_P(PotentialBodyAt, MomentIsMinusRotationalGradientAndSatisfiesEquation13) {
+  const Mat3 R = GetParam().R;
+  for (const PotentialBody& body : potential_bodies()) {
+    const double scale = std::holds_alternative<AttitudeSpring>(body.term)
+                             ? 3.0 * std::get<AttitudeSpring>(body.term).stiffness
+                             : std::get<MagneticDipole>(body.term).dipole.norm() *
+                                   std::get<MagneticDipole>(body.term).field.norm();
+    const auto U = [&](const Mat3& Q) { return body.potential(Q); };
+    const Vec3 g = fd_rotation_gradient(R, U);
+    EXPECT_LE((body.moment(R) + g).norm(), kFdTolerance * scale) << body.term.index();
+    const Mat3 dU = fd_matrix_gradient(R, U);
+    EXPECT_LE((so3::hat(body.moment(R)) - (dU.transpose() * R - R.transpose() * dU)).norm(), kFdTolerance * scale)
+        << body.term.index();
+  }
+}
+INSTANTIATE_TEST_SUITE_P(Attitudes, PotentialBodyAt, testing::ValuesIn(attitudes()), attitude_name);
+
+// About the target the spring's moment and potential have closed forms: with R = R_t exp(hat e),
+// R^T R_t = exp(-hat e), so M = -2 k (sin|e| / |e|) e and U = k (3 - tr exp(hat e)) =
+// 2 k (1 - cos|e|): near the target a rotational spring of stiffness 2k about every axis. Checked
+// to round-off (entries of size k, tens of operations) at |e| up to 3.
+TEST(PotentialBody, SpringHasItsClosedFormAboutTheTarget) {
+  const PotentialBody spring = potential_bodies()[0];
+  const AttitudeSpring& s = std::get<AttitudeSpring>(spring.term);
+  auto rng = test::make_rng(/*salt=*/733);
+  std::uniform_real_distribution<double> angle(0.01, 3.0);
+  for (int k = 0; k < 20; ++k) {
+    const double a = angle(rng);
+    const Vec3 e = a * so3::random_rotation(rng).col(0);
+    const Mat3 R = s.target * so3::exp(e);
+    EXPECT_LE((spring.moment(R) + 2.0 * s.stiffness * std::sin(a) / a * e).norm(), roundoff(2.0 * s.stiffness, 32));
+    EXPECT_NEAR(spring.potential(R), 2.0 * s.stiffness * (1.0 - std::cos(a)), roundoff(3.0 * s.stiffness, 32));
+  }
+}
+
+TEST(PotentialBody, RejectsABadParameterNamingIt) {
+  const Mat3 J = Vec3(0.13, 0.28, 0.17).asDiagonal();
+  const auto field_of = [](auto&& make) -> std::string {
+    try {
+      make();
+    } catch (const InvalidInput& e) {
+      return e.field();
+    }
+    return "(accepted)";
+  };
+  EXPECT_EQ(field_of([&] { PotentialBody(J, AttitudeSpring{0.0, Mat3::Identity()}); }), "stiffness");
+  EXPECT_EQ(field_of([&] { PotentialBody(J, AttitudeSpring{-1.0, Mat3::Identity()}); }), "stiffness");
+  EXPECT_EQ(field_of([&] { PotentialBody(J, AttitudeSpring{1.0, 2.0 * Mat3::Identity()}); }), "target");
+  EXPECT_EQ(field_of([&] { PotentialBody(J, AttitudeSpring{1.0, -Mat3::Identity()}); }), "target");  // det -1
+  EXPECT_EQ(field_of([&] { PotentialBody(J, MagneticDipole{Vec3(NAN, 0, 0), Vec3::UnitZ()}); }), "dipole");
+  EXPECT_EQ(field_of([&] { PotentialBody(J, MagneticDipole{Vec3::UnitZ(), Vec3(0, INFINITY, 0)}); }), "field");
+  EXPECT_EQ(field_of([&] { PotentialBody(-J, MagneticDipole{Vec3::UnitZ(), Vec3::UnitZ()}); }), "inertia");
+}
 
 }  // namespace
 }  // namespace lgvi

@@ -351,10 +351,10 @@ TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
   const CliResult r = run_testbed(dir, {"scenes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  const std::vector<std::string> names = {"cart-pendulum",       "connected-bodies",
+  const std::vector<std::string> names = {"attitude-spring",     "cart-pendulum",       "connected-bodies",
                                           "connected-bodies-controlled",                 "detest-b5",
                                           "dumbbell",            "free-body",            "hlw-rigid-body",
-                                          "lagrange-top",        "manifold-rigid-body",  "ocp-cart-pendulum",
+                                          "lagrange-top",        "magnetic-dipole",      "manifold-rigid-body",  "ocp-cart-pendulum",
                                           "ocp-connected-bodies", "ocp-dumbbell",        "ocp-free-body-slew",
                                           "ocp-pendulum",        "pendulum",             "pendulum-controlled",
                                           "spacecraft-tumble",   "symmetric-top"};
@@ -383,9 +383,9 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
   std::vector<std::string> expected = {"summary.csv", "summary.jsonl", "suite-journal.jsonl", "suite-run.json"};
-  for (const char* scene : {"cart-pendulum", "connected-bodies", "connected-bodies-controlled", "detest-b5", "dumbbell",
-                            "free-body", "hlw-rigid-body",
-                            "lagrange-top", "manifold-rigid-body", "pendulum", "pendulum-controlled",
+  for (const char* scene : {"attitude-spring", "cart-pendulum", "connected-bodies", "connected-bodies-controlled",
+                            "detest-b5", "dumbbell", "free-body", "hlw-rigid-body", "lagrange-top", "magnetic-dipole",
+                            "manifold-rigid-body", "pendulum", "pendulum-controlled",
                             "spacecraft-tumble", "symmetric-top"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
       expected.push_back(scene + std::string(suffix));
@@ -395,11 +395,11 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   EXPECT_EQ(files, expected);  // and no temporaries
 
   const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.jsonl"));
-  ASSERT_EQ(summary.size(), 26u);  // one JSON object per run: 13 scenes, 2 forms
-  // The metadata lines ('#') state the units and what each error column is; then header + 26 rows.
+  ASSERT_EQ(summary.size(), 30u);  // one JSON object per run: 15 scenes, 2 forms
+  // The metadata lines ('#') state the units and what each error column is; then header + 30 rows.
   const std::vector<std::string> csv = lines_of(read_text(dir.work() / "res" / "summary.csv"));
   const auto metadata_end = std::find_if(csv.begin(), csv.end(), [](const std::string& l) { return !l.starts_with("#"); });
-  EXPECT_EQ(csv.end() - metadata_end, 27);
+  EXPECT_EQ(csv.end() - metadata_end, 31);
   const std::string metadata = std::accumulate(csv.begin(), metadata_end, std::string());
   for (const char* line : {"# suite: default", "# form: full", "# units: ", "# errors: ",
                            "# columns.max_energy_error_relative: ", "# columns.max_energy_error_absolute: ",

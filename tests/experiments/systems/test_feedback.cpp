@@ -82,7 +82,7 @@ TEST(PdControl, BadInput) {
     ADD_FAILURE() << "a pd control was accepted for the cart";
   } catch (const SceneError& e) {
     EXPECT_EQ(e.field(), "control.type");
-    EXPECT_NE(e.reason().find("free-body and pendulum systems only"), std::string::npos) << e.what();
+    EXPECT_NE(e.reason().find("free-body, pendulum and potential-body systems only"), std::string::npos) << e.what();
   }
 }
 

@@ -45,7 +45,9 @@ using SystemCases = ::testing::Types<SystemCase<experiments::FreeBodyModel, "fre
                                      SystemCase<experiments::PendulumModel, "lagrange-top">,
                                      SystemCase<experiments::DumbbellModel, "dumbbell">,
                                      SystemCase<experiments::CartPendulumModel, "cart-pendulum">,
-                                     SystemCase<experiments::ConnectedBodiesModel, "connected-bodies">>;
+                                     SystemCase<experiments::ConnectedBodiesModel, "connected-bodies">,
+                                     SystemCase<experiments::PotentialBodyModel, "magnetic-dipole">,
+                                     SystemCase<experiments::PotentialBodyModel, "attitude-spring">>;
 
 struct CaseNames {
   template <class Case>
