@@ -1,12 +1,14 @@
 // Direct method (sections 4.1, 4.2): exact gradients (forward sensitivities through the
 // linearized LGVI) against central finite differences, per gradient and per SLSQP solve.
-// Then single shooting (SLSQP) against multiple shooting (IPOPT), the connected bodies' multistart.
+// Then single shooting (SLSQP) against multiple shooting (IPOPT) and iLQR on free node controls
+// (DDP, lgvi/ocp/ddp.hpp), the connected bodies' multistart.
 // Counters: SQP iterations, LGVI simulations, final cost and violation of the solve. The ratios
 // (finite-difference / exact) of wall time and iterations are reported in lgvi/ocp/README.md.
 #include <benchmark/benchmark.h>
 
 #include <string>
 
+#include "lgvi/ocp/ddp.hpp"
 #include "lgvi/ocp/direct.hpp"
 
 namespace {
@@ -150,6 +152,41 @@ void BM_ConnectedBodiesMultistart(benchmark::State& bench) {
   multistart(bench, ConnectedBodies::paper(), ocp::ConnectedBodiesTransfer::paper(), o);
 }
 
+// DDP (iLQR with the augmented Lagrangian, ddp.hpp) on the same discrete problems and starts:
+// cart-pendulum from the default guess, connected bodies the 8-start multistart (seed 1).
+// Counters per run: iterations (backward passes), rollouts, CPU seconds per iteration, best cost.
+template <class System, class Transfer>
+void ddp_multistart(benchmark::State& bench, const System& system, const Transfer& problem, const ocp::DdpOptions& o) {
+  ocp::DdpSummary last;
+  for (auto _ : bench) last = ocp::solve_ddp(system, problem, o).summary;
+  int feasible = 0;
+  for (const ocp::DdpStart& st : last.starts) feasible += st.status == ocp::DdpStatus::Converged ? 1 : 0;
+  bench.counters["starts"] = static_cast<double>(last.starts.size());
+  bench.counters["converged"] = feasible;
+  bench.counters["iterations"] = last.iterations;
+  bench.counters["outer"] = last.outer_iterations;
+  bench.counters["rollouts"] = static_cast<double>(last.rollouts);
+  bench.counters["cpu_s"] = last.cpu_seconds;
+  bench.counters["ms_per_iter"] = last.iterations > 0 ? 1e3 * last.cpu_seconds / last.iterations : 0.0;
+  bench.counters["best_cost"] = last.cost;
+  bench.counters["violation"] = last.violation;
+  for (const ocp::DdpStart& st : last.starts) {
+    const std::string i = std::to_string(st.index);
+    bench.counters["s" + i + "_iter"] = st.iterations;
+    bench.counters["s" + i + "_cost"] = st.cost;
+    bench.counters["s" + i + "_viol"] = st.violation;
+  }
+}
+
+void BM_CartPendulumDdp(benchmark::State& bench) {
+  ddp_multistart(bench, CartPendulum::paper(), ocp::CartPendulumTransfer::paper(), ocp::DdpOptions{});
+}
+void BM_ConnectedBodiesDdpMultistart(benchmark::State& bench) {
+  ocp::DdpOptions o;
+  o.starts = 8;
+  ddp_multistart(bench, ConnectedBodies::paper(), ocp::ConnectedBodiesTransfer::paper(), o);
+}
+
 // Argument: 0 = exact gradients, 1 = central finite differences.
 BENCHMARK(BM_CartPendulumGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ConnectedBodiesGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
@@ -163,6 +200,8 @@ BENCHMARK(BM_ConnectedBodiesMultistart)
     ->Args({1, 20, 1})
     ->Args({1, 40, 1})
     ->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_CartPendulumDdp)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_ConnectedBodiesDdpMultistart)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 

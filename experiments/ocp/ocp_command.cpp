@@ -230,7 +230,8 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
                       ocp::DirectOptions::kStarts.text())
       ->transform(integer_text());
   cmd->add_option("--solver", o.solver,
-                  "Direct method: slsqp (the paper's single shooting) | ipopt (multiple shooting)");
+                  "Direct method: slsqp (the paper's single shooting) | ipopt (multiple shooting) | ddp (iLQR on free "
+                  "node controls, augmented Lagrangian)");
   cmd->add_option("--hessian", o.hessian,
                   "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
                   "constraint curvature left out) | exact (Hessian of the Lagrangian by forward differences of its "

@@ -54,7 +54,7 @@ struct OcpCommand {
   std::optional<long long> starts;        ///< multistart
   std::optional<long long> seed;          ///< of the random starts
   long long first_start = 0;              ///< run starts first_start .. first_start + starts - 1 (0: the default guess first)
-  std::optional<std::string> solver;      ///< "slsqp" or "ipopt" (multiple shooting; lgvi/ocp/README.md)
+  std::optional<std::string> solver;      ///< "slsqp", "ipopt" (multiple shooting) or "ddp" (lgvi/ocp/README.md)
   std::optional<std::string> hessian;     ///< ipopt: "limited-memory", "cost" or "exact"
   std::optional<std::string> state_guess; ///< ipopt: "geodesic" or "simulated" (initial shooting states)
   std::optional<long long> shooting_interval;  ///< ipopt: steps per shooting segment

@@ -5,6 +5,8 @@
 //   ocp-SYSTEM-summary.json    cost, violation, evaluations, gradients, wall time, status, knots
 //   ocp-SYSTEM-knots.csv       t and the optimized knot values u1..u_nu, one row per knot (the
 //                              circles of the paper's Figs. 4(b), 5(b))
+// With --solver ddp (lgvi/ocp/ddp.hpp: free node controls, no spline) the history has one row per
+// iLQR iteration and there is no knots file (the node controls are in the trajectory).
 #include <cmath>
 #include <filesystem>
 #include <ostream>
@@ -20,6 +22,7 @@
 #include "experiments/methods/simulate.hpp"
 #include "experiments/systems/systems.hpp"
 #include "experiments/systems/ocp.hpp"
+#include "lgvi/ocp/ddp.hpp"
 #include "lgvi/ocp/direct.hpp"
 
 namespace lgvi::experiments {
@@ -187,6 +190,109 @@ int solve_and_write(const typename Model::System& system, const typename Model::
   return ocp_output::finish(cmd, S, files, {history, trajectory, knots_file, files.summary}, out, err);
 }
 
+// --solver ddp: iLQR on the node controls (lgvi/ocp/ddp.hpp); the same history, trajectory and
+// summary files, no knots file.
+template <class B, class Model = typename B::DirectModel>
+int solve_and_write_ddp(const typename Model::System& system, const typename Model::Transfer& problem,
+                        const ocp::DdpOptions& options, const ocp_output::Run& run, const OcpCommand& cmd,
+                        const std::string& command_line, std::ostream& out, std::ostream& err) {
+  const ocp::DdpResult<Model> result = ocp::solve_ddp(system, problem, options);
+  const ocp::DdpSummary& S = result.summary;
+  if (S.status == ocp::DdpStatus::InvalidInput) return ocp_output::invalid_input(cmd, S.message, err);
+  const ocp_output::Files files = ocp_output::create_files(cmd, run.label);
+  const Eigen::VectorXd& r = S.residual;
+  const auto per_start = [&](auto f, const char* separator = " ") {
+    std::string s;
+    for (std::size_t i = 0; i < S.starts.size(); ++i) s += (i > 0 ? separator : "") + f(S.starts[i]);
+    return s;
+  };
+  Fields f = {
+      {"system", run.system},
+      {"method", std::string("direct: free node controls, iLQR/DDP with an augmented Lagrangian")},
+      {"solver", std::string("ddp")},
+      {"form", std::string(to_string(options.form))},
+      {"h", options.h},
+      {"steps", static_cast<std::int64_t>(S.steps)},
+      {"t_final", problem.t_final},
+      {"W", ocp_output::weight_text(options.W)},
+      {"knots", std::int64_t{options.knots}},  // of the starts' splines only
+      {"spline", std::string(ocp::to_string(options.spline))},
+      {"status", std::string(ocp::to_string(S.status))},
+      {"status_detail", S.brief()},
+      {"converged", S.converged()},
+      {"tolerance", options.tolerance},
+      {"cost", S.cost},
+      {"violation", S.violation},
+      {"violation_norm", std::string(B::violation_norm)},
+      {"constraints", std::int64_t{S.constraints}},
+  };
+  if (r.size() > 0) {
+    for (const ResidualPart& p : B::violation_parts) f.push_back({p.name, r.segment(p.offset, p.size).norm()});
+  }
+  const Fields rest = {
+      {"iterations", std::int64_t{S.iterations}},
+      {"outer_iterations", std::int64_t{S.outer_iterations}},
+      {"rollouts", static_cast<std::int64_t>(S.rollouts)},
+      {"wall_seconds", S.wall_seconds},
+      {"cpu_seconds", S.cpu_seconds},
+      {"starts", std::int64_t(S.starts.size())},
+      {"first_start", std::int64_t{options.first_start}},
+      {"best_start", std::int64_t{S.best_start >= 0 ? S.starts[S.best_start].index : -1}},
+      {"seed", static_cast<std::int64_t>(options.seed)},
+      {"start_costs", per_start([](const ocp::DdpStart& s) { return shortest(s.cost); })},
+      {"start_violations", per_start([](const ocp::DdpStart& s) { return shortest(s.violation); })},
+      {"start_iterations", per_start([](const ocp::DdpStart& s) { return std::to_string(s.iterations); })},
+      {"start_seconds", per_start([](const ocp::DdpStart& s) { return shortest(s.cpu_seconds); })},
+      {"start_statuses", per_start([](const ocp::DdpStart& s) { return std::string(ocp::to_string(s.status)); }, "; ")},
+      {"history_csv", files.history.filename().string()},
+      {"trajectory_csv", files.trajectory.filename().string()},
+      {"git_describe", std::string(git_describe())},
+      {"command_line", command_line},
+      {"run_id", files.run_id},
+  };
+  f.insert(f.end(), rest.begin(), rest.end());
+  {
+    CsvWriter csv(files.history, {"start", "iteration", "outer", "cost", "violation", "objective", "gradient",
+                                  "expected", "alpha", "regularization", "penalty", "seconds"});
+    for (const ocp::DdpIteration& it : S.history) {
+      const double row[] = {double(it.start), double(it.iteration), double(it.outer), it.cost, it.violation,
+                            it.objective,     it.gradient,          it.expected,      it.alpha, it.regularization,
+                            it.penalty,       it.seconds};
+      csv.write_row(row);
+    }
+    csv.commit(f);
+  }
+  {
+    const ocp::Ddp<Model> ddp(system, problem, options);
+    const auto& lgvi = ddp.transcription().lgvi();
+    std::vector<std::string> columns = {"t"};
+    B::state_columns(columns);
+    for (int i = 1; i <= Model::nu; ++i) columns.push_back(std::string(1, 'u') + static_cast<char>('0' + i));
+    columns.push_back("energy");
+    CsvWriter csv(files.trajectory, columns);
+    std::vector<double> row;
+    for (std::size_t k = 0; k < result.states.size(); ++k) {
+      row.clear();
+      row.push_back(static_cast<double>(k) * options.h);
+      B::state_row(row, lgvi, result.states[k]);
+      for (int i = 0; i < Model::nu; ++i) row.push_back(result.controls(i, static_cast<Eigen::Index>(k)));
+      row.push_back(B::energy(lgvi, result.states[k]));
+      csv.write_row(row);
+    }
+    csv.commit(f);
+  }
+  std::vector<double> start_costs, start_violations, start_iterations;
+  for (const ocp::DdpStart& s : S.starts) {
+    start_costs.push_back(s.cost);
+    start_violations.push_back(s.violation);
+    start_iterations.push_back(static_cast<double>(s.iterations));
+  }
+  write_json_object(files.summary, f,
+                    {{"start_costs", start_costs}, {"start_violations", start_violations},
+                     {"start_iterations", start_iterations}});
+  return ocp_output::finish(cmd, S, files, {files.history, files.trajectory, files.summary}, out, err);
+}
+
 }  // namespace
 
 namespace {
@@ -234,11 +340,43 @@ int run_direct_for(const Scene& scene, const M& m, const OcpCommand& cmd, const 
     if (cmd.starts) options.starts = ocp_output::option_int(*cmd.starts, O::kStarts, "--starts");
     if (cmd.seed) options.seed = static_cast<std::uint64_t>(ocp_output::option_int(*cmd.seed, O::kSeed, "--seed"));
     options.first_start = ocp_output::option_int(cmd.first_start, O::kFirstStart, "--first-start");
+    if (cmd.solver && *cmd.solver == "ddp") {
+      // iLQR on free node controls (lgvi/ocp/ddp.hpp): the same discrete problem and starts.
+      const std::pair<bool, const char*> not_ddp[] = {{cmd.gradients.has_value(), "--gradients"},
+                                                      {cmd.hessian.has_value(), "--hessian"},
+                                                      {cmd.state_guess.has_value(), "--state-guess"},
+                                                      {cmd.shooting_interval.has_value(), "--shooting-interval"}};
+      for (const auto& [given, name] : not_ddp) {
+        if (given) throw InvalidInput(name, "applies to --solver slsqp or ipopt only");
+      }
+      ocp::DdpOptions ddp;
+      ddp.form = options.form;
+      ddp.h = options.h;
+      ddp.W = options.W;
+      ddp.knots = options.knots;
+      ddp.spline = options.spline;
+      ddp.initial_knots = options.initial_knots;
+      ddp.starts = options.starts;
+      ddp.first_start = options.first_start;
+      ddp.seed = options.seed;
+      ddp.guess_scale = options.guess_scale;
+      ddp.keep_redundant_constraint = options.keep_redundant_constraint;
+      ddp.newton = options.newton;
+      if (cmd.tolerance) ddp.tolerance = options.tolerance;  // else DDP's default, 1e-8
+      if (cmd.max_iterations) {
+        ddp.max_iterations =
+            ocp_output::option_int(*cmd.max_iterations, ocp::DdpOptions::kMaxIterations, "--max-iterations");
+      }
+      ocp_output::validate_options(ddp, scene, "direct");
+      const auto problem = B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
+      const auto& system = ocp_output::with_sphere_radius(B::system(m), cmd.sphere_radius);
+      return solve_and_write_ddp<B>(system, problem, ddp, ocp_output::Run::of(scene), cmd, command_line, out, err);
+    }
     if (cmd.solver) {
       try {
         options.solver = ocp::parse_direct_solver(*cmd.solver);
       } catch (const InvalidInput&) {
-        throw InvalidInput("--solver", "must be 'slsqp' or 'ipopt' (got '" + *cmd.solver + "')");
+        throw InvalidInput("--solver", "must be 'slsqp', 'ipopt' or 'ddp' (got '" + *cmd.solver + "')");
       }
     }
     const bool ipopt = options.solver == ocp::DirectSolver::IpoptMultipleShooting;
