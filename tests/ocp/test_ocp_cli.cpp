@@ -166,5 +166,31 @@ TEST(OcpCli, ANonFiniteValueInTheHistoryIsANamedFailure) {
   EXPECT_NE(json.find("\"converged\": false"), std::string::npos) << json;
 }
 
+// --solver ddp: the history (one row per iLQR iteration), the trajectory and the summary, no
+// knots file; an option of the other solvers is an error naming it.
+TEST(OcpCli, DdpWritesHistoryTrajectoryAndSummary) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"ocp", "cart-pendulum", "--solver", "ddp", "--h", "0.02", "--out", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fs::path out = dir.work() / "out";
+  const std::string json = read_text(out / "ocp-cart-pendulum-summary.json");
+  for (const char* key : {"\"solver\": \"ddp\"", "\"status\": \"converged\"", "\"outer_iterations\"",
+                          "\"cpu_seconds\"", "\"violation\"", "\"start_statuses\": \"converged\""}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key << " not in " << json;
+  }
+  EXPECT_NE(read_text(out / "ocp-cart-pendulum-history.csv").find("start,iteration,outer,cost,violation"),
+            std::string::npos);
+  std::size_t data = 0;
+  for (const std::string& line : lines_of(read_text(out / "ocp-cart-pendulum-trajectory.csv"))) {
+    if (!line.empty() && line[0] != '#' && line.rfind("t,", 0) != 0) ++data;
+  }
+  EXPECT_EQ(data, 101u);  // nodes 0..100
+  EXPECT_FALSE(fs::exists(out / "ocp-cart-pendulum-knots.csv"));
+  TempDir bad;
+  const CliResult e = run_testbed(bad, {"ocp", "cart-pendulum", "--solver", "ddp", "--hessian", "cost", "--out", "."});
+  EXPECT_EQ(e.exit_code, 1);
+  EXPECT_NE(e.err.find("--hessian"), std::string::npos) << e.err;
+}
+
 }  // namespace
 }  // namespace lgvi::test
