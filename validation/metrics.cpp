@@ -823,22 +823,28 @@ void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
   const PaperValues& paper = paper_values();
   // The dumbbell also by the continuation globalization (issue 17: <= 40 outer iterations on the
   // extremal Newton-Armijo finds), as "ocp/dumbbell-continuation/...".
+  // The direct examples also by DDP (`--solver ddp`, lgvi/ocp/ddp.hpp), as "ocp/SYSTEM-ddp/...":
+  // its quick form reruns DDP's best start of the multistart (start 1 of seed 1).
   struct Run {
     const char* system;
     const char* globalization;  ///< "" : the command's default
-    bool quick_one_start = false;  ///< quick form: only kConnectedBodiesConvergingStart
+    bool quick_one_start = false;  ///< quick form: only kConnectedBodiesConvergingStart (DDP: start 1)
+    bool ddp = false;
   };
   for (const Run run : {Run{"pendulum", ""}, Run{"dumbbell", ""}, Run{"dumbbell", "continuation"},
-                        Run{"cart-pendulum", ""}, Run{"connected-bodies", "", true}}) {
+                        Run{"cart-pendulum", ""}, Run{"connected-bodies", "", true},
+                        Run{"cart-pendulum", "", false, true}, Run{"connected-bodies", "", true, true}}) {
     const std::string system = run.system;
-    const std::string name = system + (*run.globalization ? std::string("-") + run.globalization : std::string());
+    const std::string name = system + (*run.globalization ? std::string("-") + run.globalization : std::string()) +
+                             (run.ddp ? "-ddp" : "");
     OcpCommand cmd;
     cmd.system = system;
     if (*run.globalization) cmd.globalization = run.globalization;
+    if (run.ddp) cmd.solver = "ddp";
     cmd.out = scratch.path.string();
     if (run.quick_one_start && options.quick) {
       cmd.starts = 1;
-      cmd.first_start = kConnectedBodiesConvergingStart;
+      cmd.first_start = run.ddp ? 1 : kConnectedBodiesConvergingStart;
     }
     std::ostringstream log, err;
     const auto t0 = Clock::now();
@@ -862,6 +868,7 @@ void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
     const bool direct = is_direct_system(system);
     std::string detail = "ocp " + system + (*run.globalization ? std::string(" --globalization ") + run.globalization
                                                                 : std::string()) +
+                         (run.ddp ? " --solver ddp" : "") +
                          (cmd.first_start > 0 ? " --starts 1 --first-start " +
                                                                       std::to_string(cmd.first_start)
                                                                 : std::string()) +
@@ -880,6 +887,14 @@ void ocp_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
       m.detail = detail;
       out.push_back(m);
     };
+    if (run.ddp) {
+      // DDP: another discretization of the controls (free nodes), so no paper value; its violation
+      // is gated against its stopping tolerance (1e-8), not round-off.
+      add("cost", MetricKind::Cost, number("cost"), std::nullopt);
+      add("violation", MetricKind::RoundOff, number("violation"), std::nullopt, 1e-8);
+      add("iterations", MetricKind::Count, number("iterations"), std::nullopt);
+      continue;
+    }
     add("cost", MetricKind::Cost, number("cost"), example.cost);
     add("violation", MetricKind::RoundOff, number("violation"), example.terminal_violation, 1e-15);
     add("iterations", MetricKind::Count, number(direct ? "iterations" : "outer_iterations"),
