@@ -691,7 +691,7 @@ void bind_harness(py::module_& m) {
 
   m.def("solve_ocp", &solve_ocp, py::arg("system"),
         "Optimal control, as `lgvi-testbed ocp SYSTEM`: the paper's 'pendulum', 'dumbbell' (indirect shooting) or "
-        "'cart-pendulum', 'connected-bodies' (direct method; solver='slsqp' or 'ipopt'), or a scene with an [ocp] "
+        "'cart-pendulum', 'connected-bodies' (direct method; solver='slsqp', 'ipopt' or 'ddp'), or a scene with an [ocp] "
         "table (a name or a path). Keyword options are "
         "the CLI's with underscores: form, h, steps, decomposition, merit, globalization, lm_damping, "
         "nonmonotone_memory, guess, max_iterations, t_final, sphere_radius, knots, spline, gradients, tolerance, "
