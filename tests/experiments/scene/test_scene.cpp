@@ -750,3 +750,37 @@ TEST(SceneErrors, NonAsciiCharactersTomlWouldMisreadAreRefusedFirst) {
 }
 
 }  // namespace lgvi::experiments
+
+namespace lgvi::experiments {
+namespace {
+
+// The potential-body's keys (experiments/scenes/README.md, potential-body): each bad value is one
+// SceneError naming its key.
+TEST(PotentialBodyScene, ABadPotentialIsNamedByItsKey) {
+  struct Case {
+    const char* scene;
+    const char* from;
+    const char* to;
+    const char* field;
+    const char* reason;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"magnetic-dipole", "potential = \"magnetic-dipole\"", "potential = \"gravity\"", "parameters.potential",
+            "must be \"attitude-spring\" or \"magnetic-dipole\""},
+           {"magnetic-dipole", "field = [0.05, 0.0, 0.1]", "field = [0.05, 0.0]", "parameters.field", ""},
+           {"magnetic-dipole", "field = [0.05, 0.0, 0.1]", "field = [0.05, 0.0, 0.1]\nstiffness = 1.0",
+            "parameters.stiffness", "belongs to potential = \"attitude-spring\""},
+           {"attitude-spring", "stiffness = 0.5", "stiffness = 0.0", "parameters.stiffness", "must be"},
+           {"attitude-spring", "[0.3333333333333333, -0.24401693585629253, 0.9106836025229592]",
+            "[0.3333333333333333, -0.24401693585629253, 0.95]", "parameters.target", "rotation matrix"},
+           {"attitude-spring", "stiffness = 0.5", "stiffness = 0.5\ndipole = [0, 0, 1]", "parameters.dipole",
+            "belongs to potential = \"magnetic-dipole\""},
+       }) {
+    const SceneError e = scene_error(edited_scene(c.scene, c.from, c.to));
+    EXPECT_EQ(e.field(), c.field) << c.scene << ": " << e.what();
+    EXPECT_NE(e.reason().find(c.reason), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace lgvi::experiments
