@@ -62,8 +62,8 @@ struct SystemBinding<BoundModel> : AttitudeBinding<PotentialBodyModel> {
     return {m.system.energy(s.R, s.Omega), about_field, 1};
   }
   static MomentumMap momentum_map() {
-    return {"angular momentum about the field B^T R J Omega / |B| (magnetic dipole; 0 for the spring)",
-            {"field_momentum"}};
+    // B^T R J Omega / |B| for the dipole, 0 for the spring (the y axis label gives the formula).
+    return {"angular momentum about the field B", {"field_momentum"}};
   }
   static SystemLabels labels() {
     return {"time [s]", "|E - E_0| [J]", "|B^T R J Ω - (B^T R J Ω)_0| / |B| [kg m^2/s]", " s"};
