@@ -63,7 +63,7 @@ struct SystemBinding<BoundModel> : AttitudeBinding<PotentialBodyModel> {
   }
   static MomentumMap momentum_map() {
     // B^T R J Omega / |B| for the dipole, 0 for the spring (the y axis label gives the formula).
-    return {"angular momentum about the field B", {"field_momentum"}};
+    return {"field-axis angular momentum", {"field_momentum"}};
   }
   static SystemLabels labels() {
     return {"time [s]", "|E - E_0| [J]", "|B^T R J Ω - (B^T R J Ω)_0| / |B| [kg m^2/s]", " s"};
