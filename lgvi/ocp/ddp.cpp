@@ -112,27 +112,37 @@ typename Model::VecR Ddp<Model>::imposed(const VecR& r) const {
 }
 
 template <class Model>
-bool Ddp<Model>::rollout(Trajectory& t) const {
+bool Ddp<Model>::step(Trajectory& t, std::size_t k) const {
+  const auto kk = static_cast<Eigen::Index>(k);
+  const VecU u0 = t.controls.col(kk), u1 = t.controls.col(kk + 1);
+  const RotationUpdateSummary r = tr_.lgvi().step(t.states[k], tr_.h(), u0, u1, t.states[k + 1]);
+  const char* non_finite = r.converged() ? non_finite_part(t.states[k + 1]) : nullptr;
+  if (r.converged() && non_finite == nullptr) return true;
+  t.failed_step = k;
+  t.failure = step_failure_message(k, static_cast<double>(k) * tr_.h(), r, non_finite);
+  return false;
+}
+
+template <class Model>
+void Ddp<Model>::finish(Trajectory& t) const {
   const std::size_t N = tr_.steps();
-  t.states[0] = Model::initial_state(tr_.lgvi(), tr_.problem());
-  t.failure.clear();
-  for (std::size_t k = 0; k < N; ++k) {
-    const auto kk = static_cast<Eigen::Index>(k);
-    const VecU u0 = t.controls.col(kk), u1 = t.controls.col(kk + 1);
-    const RotationUpdateSummary r = tr_.lgvi().step(t.states[k], tr_.h(), u0, u1, t.states[k + 1]);
-    const char* non_finite = r.converged() ? non_finite_part(t.states[k + 1]) : nullptr;
-    if (!r.converged() || non_finite != nullptr) {
-      t.failed_step = k;
-      t.failure = step_failure_message(k, static_cast<double>(k) * tr_.h(), r, non_finite);
-      return false;
-    }
-  }
   t.cost = 0.0;
   for (std::size_t j = 0; j <= N; ++j) {
     const VecU u = t.controls.col(static_cast<Eigen::Index>(j));
     t.cost += 0.5 * tr_.node_weight(static_cast<Eigen::Index>(j)) * u.dot(tr_.weight() * u);
   }
   t.residual = Model::residual(tr_.lgvi(), tr_.problem(), t.states[N]);
+}
+
+template <class Model>
+bool Ddp<Model>::rollout(Trajectory& t) const {
+  const std::size_t N = tr_.steps();
+  t.states[0] = Model::initial_state(tr_.lgvi(), tr_.problem());
+  t.failure.clear();
+  for (std::size_t k = 0; k < N; ++k) {
+    if (!step(t, k)) return false;
+  }
+  finish(t);
   return true;
 }
 
@@ -150,21 +160,9 @@ bool Ddp<Model>::forward(const Trajectory& nominal, const Gains& g, double alpha
     dx.template head<nw>() = Model::difference(nominal.states[k], trial.states[k]);
     dx.template tail<nu>() = trial.controls.col(kk) - nominal.controls.col(kk);
     trial.controls.col(kk + 1) = nominal.controls.col(kk + 1) + alpha * g.k.col(kk + 1) + g.K[k] * dx;
-    const VecU u0 = trial.controls.col(kk), u1 = trial.controls.col(kk + 1);
-    const RotationUpdateSummary r = tr_.lgvi().step(trial.states[k], tr_.h(), u0, u1, trial.states[k + 1]);
-    const char* non_finite = r.converged() ? non_finite_part(trial.states[k + 1]) : nullptr;
-    if (!r.converged() || non_finite != nullptr) {
-      trial.failed_step = k;
-      trial.failure = step_failure_message(k, static_cast<double>(k) * tr_.h(), r, non_finite);
-      return false;
-    }
+    if (!step(trial, k)) return false;
   }
-  trial.cost = 0.0;
-  for (std::size_t j = 0; j <= N; ++j) {
-    const VecU u = trial.controls.col(static_cast<Eigen::Index>(j));
-    trial.cost += 0.5 * tr_.node_weight(static_cast<Eigen::Index>(j)) * u.dot(tr_.weight() * u);
-  }
-  trial.residual = Model::residual(tr_.lgvi(), tr_.problem(), trial.states[N]);
+  finish(trial);
   return true;
 }
 

@@ -206,6 +206,12 @@ class Ddp {
   /// The forward pass at step alpha from nominal into trial; false when the rollout fails.
   bool forward(const Trajectory& nominal, const Gains& g, double alpha, Trajectory& trial) const;
 
+  /// Step k of t (s_k, u_k, u_{k+1} -> s_{k+1}); false (failed_step, failure set) when the
+  /// rotation update fails or s_{k+1} is not finite. rollout and forward share it.
+  bool step(Trajectory& t, std::size_t k) const;
+  /// t's cost and terminal residual, after a complete rollout.
+  void finish(Trajectory& t) const;
+
   /// The imposed rows of r (others zeroed).
   VecR imposed(const VecR& r) const;
   const DirectTranscription<Model>& transcription() const { return tr_; }
