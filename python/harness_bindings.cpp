@@ -27,6 +27,8 @@
 #include <vector>
 
 #include "experiments/output/atomic_file.hpp"
+#include "experiments/output/data_dir.hpp"
+#include "experiments/suites/study.hpp"
 #include "experiments/output/csv_writer.hpp"
 #include "experiments/methods/method.hpp"
 #include "experiments/ocp/ocp_command.hpp"
@@ -408,10 +410,11 @@ py::list suite_cases(const std::string& name, bool quick, const std::optional<fs
   return out;
 }
 
-/// Runs a suite into `out` (created) like `lgvi-testbed suite`, returns summary.jsonl's rows.
-py::list run_suite(const std::string& name, const fs::path& out, bool quick, unsigned jobs,
-                   const std::optional<std::string>& shard, bool plots, const std::optional<fs::path>& scenes_dir,
-                   bool progress) {
+/// The suite's run options from run_suite's and run_study's arguments, checked as the CLI checks
+/// its options (--jobs, --shard, --format).
+ex::SuiteOptions suite_options(const std::string& command, const fs::path& out, bool quick, unsigned jobs,
+                               const std::optional<std::string>& shard, bool plots,
+                               const std::optional<std::string>& formats, const std::optional<fs::path>& scenes_dir) {
   if (jobs < 1) throw py::value_error("jobs: must be >= 1");
   ex::SuiteOptions options;
   options.out_dir = out;
@@ -419,11 +422,17 @@ py::list run_suite(const std::string& name, const fs::path& out, bool quick, uns
   options.plots_dir = ex::default_plots_dir();
   options.gnuplot = ex::default_gnuplot();
   options.plots = plots;
-  options.command_line = "python: lgvi.run_suite('" + name + "')";
+  options.command_line = "python: " + command;
   if (shard) options.shard = ex::parse_shard(*shard);
+  if (formats) options.formats = ex::figure_formats_named("formats", *formats);
   options.jobs = jobs;
   options.quick = quick;
-  const ex::Suite suite = ex::make_suite(name, ex::SuiteParams{quick, options.scenes_dir});
+  return options;
+}
+
+/// Runs `suite` into options.out_dir (created), returns summary.jsonl's rows.
+py::list run_into(const ex::Suite& suite, const ex::SuiteOptions& options, bool progress) {
+  const fs::path& out = options.out_dir;
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) throw ex::OutputError(out.string() + ": cannot create the output directory: " + ec.message());
@@ -434,6 +443,39 @@ py::list run_suite(const std::string& name, const fs::path& out, bool quick, uns
   }
   if (progress) py::print(log.str(), py::arg("end") = "", py::arg("file") = py::module_::import("sys").attr("stderr"));
   return read_jsonl(out / "summary.jsonl");
+}
+
+/// Runs a suite into `out` (created) like `lgvi-testbed suite`, returns summary.jsonl's rows.
+py::list run_suite(const std::string& name, const fs::path& out, bool quick, unsigned jobs,
+                   const std::optional<std::string>& shard, bool plots, const std::optional<std::string>& formats,
+                   const std::optional<fs::path>& scenes_dir, bool progress) {
+  const ex::SuiteOptions options =
+      suite_options("lgvi.run_suite('" + name + "')", out, quick, jobs, shard, plots, formats, scenes_dir);
+  return run_into(ex::make_suite(name, ex::SuiteParams{quick, options.scenes_dir}), options, progress);
+}
+
+/// A study by path (containing '/' or ending in ".toml") or by the name of a shipped one.
+fs::path resolve_study(const std::string& study) {
+  const bool is_path = study.find('/') != std::string::npos || study.ends_with(".toml");
+  if (is_path) return study;
+  const fs::path file = ex::default_studies_dir() / (study + ".toml");
+  std::error_code ec;
+  if (fs::is_regular_file(file, ec)) return file;
+  std::string known;
+  for (fs::directory_iterator it(ex::default_studies_dir(), ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->path().extension() == ".toml") known += (known.empty() ? "" : ", ") + it->path().stem().string();
+  }
+  throw py::value_error("study: no shipped study '" + study + "' (shipped: " + known +
+                        "; a path contains '/' or ends in .toml)");
+}
+
+/// Runs a study file into `out` like `lgvi-testbed study FILE --out OUT`, returns its rows.
+py::list run_study(const std::string& study, const fs::path& out, bool quick, unsigned jobs,
+                   const std::optional<std::string>& shard, bool plots, const std::optional<std::string>& formats,
+                   const std::optional<fs::path>& scenes_dir, bool progress) {
+  const ex::SuiteOptions options =
+      suite_options("lgvi.run_study('" + study + "')", out, quick, jobs, shard, plots, formats, scenes_dir);
+  return run_into(ex::load_study(resolve_study(study), ex::SuiteParams{quick, options.scenes_dir}), options, progress);
 }
 
 // --- validate -------------------------------------------------------------------------------------
@@ -520,17 +562,38 @@ T option_value(const py::handle& value, const std::string& key) {
   }
 }
 
-/// `lgvi-testbed ocp SYSTEM` with the given options; ValueError for bad input (exit status 1).
-py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
-  ex::OcpCommand cmd;
-  cmd.system = system;
-  // The scene `ocp SYSTEM` runs (a paper example's name, a scene name or a path) names the files.
-  std::string label;
-  try {
-    label = ex::ocp_label(ex::load_scene(ex::resolve_ocp_scene(system, ex::default_scenes_dir())));
-  } catch (const std::exception& e) {
-    throw py::value_error(e.what());
+/// W as given to solve_ocp: a number per control (the diagonal) or a square matrix, as the flat
+/// list of `ocp --weight` (row by row); its size and definiteness are the command's checks.
+std::vector<double> weight_values(const py::handle& value) {
+  // ensure: an empty handle (the error cleared) when value is no array of numbers.
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+  if (!a || a.ndim() > 2 || (a.ndim() == 2 && a.shape(0) != a.shape(1)) || a.ndim() == 0) {
+    throw py::value_error("W: expected the diagonal (a sequence of floats) or a square matrix, got " +
+                          py::str(py::repr(value)).cast<std::string>());
   }
+  return {a.data(), a.data() + a.size()};
+}
+
+/// `lgvi-testbed ocp SYSTEM` with the given options; ValueError for bad input (exit status 1).
+py::dict solve_ocp(const std::variant<std::string, ex::Scene>& problem, const py::kwargs& kwargs) {
+  ex::OcpCommand cmd;
+  // The scene `ocp SYSTEM` runs (a paper example's name, a scene name or a path, or a Scene made
+  // in memory) names the files.
+  std::string label;
+  if (const auto* scene = std::get_if<ex::Scene>(&problem)) {
+    if (!scene->text) throw py::value_error("scene: has no source text (make it by load_scene, parse_scene or make_scene)");
+    cmd.scene = std::make_shared<const ex::Scene>(*scene);
+    cmd.system = scene->name;
+    label = ex::ocp_label(*scene);
+  } else {
+    cmd.system = std::get<std::string>(problem);
+    try {
+      label = ex::ocp_label(ex::load_scene(ex::resolve_ocp_scene(cmd.system, ex::default_scenes_dir())));
+    } catch (const std::exception& e) {
+      throw py::value_error(e.what());
+    }
+  }
+  const std::string& system = cmd.system;
   std::optional<fs::path> keep;
   for (const auto& [key_handle, value] : kwargs) {
     const std::string key = py::str(key_handle);
@@ -545,6 +608,7 @@ py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
     else if (key == "lm_damping") cmd.lm_damping = option_value<double>(value, key);
     else if (key == "nonmonotone_memory") cmd.nonmonotone_memory = option_value<long long>(value, key);
     else if (key == "guess") cmd.guess = option_value<std::vector<double>>(value, key);
+    else if (key == "W") cmd.weight = weight_values(value);
     else if (key == "max_iterations") cmd.max_iterations = option_value<long long>(value, key);
     else if (key == "t_final") cmd.t_final = option_value<double>(value, key);
     else if (key == "sphere_radius") cmd.sphere_radius = option_value<double>(value, key);
@@ -579,6 +643,7 @@ py::dict solve_ocp(const std::string& system, const py::kwargs& kwargs) {
     field.erase(0, 2);
     for (char& c : field) c = c == '-' ? '_' : c;
     if (field == "no_decomposition") field = "decomposition";
+    if (field == "weight") field = "W";
     throw py::value_error(field + ": " + reason);
   }
   if (status == 1) {
@@ -675,8 +740,8 @@ void bind_harness(py::module_& m) {
   m.def("suite_cases", &suite_cases, py::arg("name"), py::arg("quick") = true, py::arg("scenes_dir") = py::none(),
         "The cases of a suite (id, group, expected, labels, timed), as `suite NAME --list`.");
   m.def("run_suite", &run_suite, py::arg("name"), py::arg("out"), py::arg("quick") = true, py::arg("jobs") = 1,
-        py::arg("shard") = py::none(), py::arg("plots") = false, py::arg("scenes_dir") = py::none(),
-        py::arg("progress") = false,
+        py::arg("shard") = py::none(), py::arg("plots") = false, py::arg("formats") = py::none(),
+        py::arg("scenes_dir") = py::none(), py::arg("progress") = false,
         "Runs a suite into the directory `out`, as `lgvi-testbed suite NAME --out OUT`; returns the summary's "
         "rows (summary.jsonl) as a list of dicts, in case order. shard: 'i/N'. progress: print the progress "
         "lines to stderr afterwards.");
@@ -689,6 +754,27 @@ void bind_harness(py::module_& m) {
         "accepted_file, accepted_at, version, rows: [{name, kind, paper, accepted, now, verdict, seconds, "
         "detail}], counts: {verdict: n}, regressed, table}. Accepting stays with the CLI.");
 
+  m.def("_set_data_root", [](const fs::path& root) { ex::set_data_root(root); }, py::arg("root"),
+        "Makes the harness read its shipped data (scenes, studies, plot scripts, accepted metrics) from root "
+        "(the installed package's data folder; called by lgvi/__init__.py).");
+  m.def("data_dirs",
+        [] {
+          py::dict d;
+          d["scenes"] = ex::default_scenes_dir();
+          d["studies"] = ex::default_studies_dir();
+          d["plots"] = ex::default_plots_dir();
+          d["validation"] = ex::data_dir("validation", "validation");
+          return d;
+        },
+        "Where the shipped data is read from: {scenes, studies, plots, validation} (the installed package's "
+        "data folder, or the source tree's for a build tree's module).");
+  m.def("run_study", &run_study, py::arg("study"), py::arg("out"), py::arg("quick") = true, py::arg("jobs") = 1,
+        py::arg("shard") = py::none(), py::arg("plots") = false, py::arg("formats") = py::none(),
+        py::arg("scenes_dir") = py::none(), py::arg("progress") = false,
+        "Runs a study (a path, or a shipped study's name: data_dirs()['studies']) into the directory `out`, as "
+        "`lgvi-testbed study FILE --out OUT`; returns the summary's rows (summary.jsonl) as a list of dicts, in "
+        "case order. quick: the study's [quick] table; shard: 'i/N'; plots: draw the figures and tables (formats "
+        "'png', 'pdf', 'svg' or a list 'png,pdf'); progress: print the progress lines to stderr afterwards.");
   m.def("solve_ocp", &solve_ocp, py::arg("system"),
         "Optimal control, as `lgvi-testbed ocp SYSTEM`: the paper's 'pendulum', 'dumbbell' (indirect shooting) or "
         "'cart-pendulum', 'connected-bodies' (direct method; solver='slsqp', 'ipopt' or 'ddp'), or a scene with an [ocp] "

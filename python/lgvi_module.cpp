@@ -328,7 +328,7 @@ py::dict solve_pendulum_transfer(const lgvi::Pendulum3D& pendulum, double h, con
 
 }  // namespace
 
-PYBIND11_MODULE(lgvi, m) {
+PYBIND11_MODULE(_lgvi, m) {
   m.doc() =
       "Lie group variational integrators and discrete optimal control of rigid bodies (Lee, Leok, "
       "McClamroch). Arrays are numpy float64; R is a (3, 3) rotation matrix (body to inertial), Omega "
@@ -434,7 +434,7 @@ PYBIND11_MODULE(lgvi, m) {
         py::arg("h") = py::none(), py::arg("max_steps") = static_cast<long long>(lgvi::baselines::SolverSettings{}.max_steps), baseline_doc);
   m.def("baseline_methods", &lgvi::baselines::solver_names, "The baseline methods' names.");
 
-  m.def("solve_pendulum_transfer", &solve_pendulum_transfer, py::arg("pendulum") = lgvi::Pendulum3D::paper(),
+  m.def("solve_pendulum_transfer", &solve_pendulum_transfer, py::arg_v("pendulum", lgvi::Pendulum3D::paper(), "Pendulum3D.paper()"),
         py::arg("h") = 1e-3, py::arg("form") = "symmetric", py::arg("initial_multiplier") = py::none(),
         py::arg("tolerance") = 1e-12, py::arg("max_iterations") = 100,
         "The paper's pendulum transfer (sec. 3.2: rest to rest, 180 deg about the vertical in 1 s) by "

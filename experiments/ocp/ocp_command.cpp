@@ -142,7 +142,8 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
   }
   // One object; the vectors as arrays of numbers (their text form stays in the CSVs' metadata).
   write_json_object(files.summary, f,
-                    {{"inertia_diagonal", values(system.inertia.J.diagonal())},
+                    {{"W", ocp_output::weight_values(options.W, B::nu)},
+                     {"inertia_diagonal", values(system.inertia.J.diagonal())},
                      {"multiplier_guess", values(S.multiplier_guess)},
                      {"multiplier", values(S.multiplier)}});
   return ocp_output::finish(cmd, S, files, {history, trajectory, files.summary}, out, err);
@@ -207,6 +208,10 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   cmd->add_option("--guess", o.guess,
                   "Indirect: initial multiplier lambda_0, comma-separated (2 n_q values: 6 pendulum and free body, "
                   "12 dumbbell; each 0 or of magnitude in [1e-100, 1e100])")
+      ->delimiter(',');
+  cmd->add_option("--weight", o.weight,
+                  "Replaces the scene's [ocp] W: n_u values (the diagonal) or n_u^2 (the matrix row by row), "
+                  "comma-separated; symmetric positive definite (n_u: 3 pendulum and free body, 6 dumbbell, 2 cart-pendulum, 3 connected bodies)")
       ->delimiter(',');
   cmd->add_option("--max-iterations", o.max_iterations,
                   "Indirect: outer Newton iterations, in " + ocp::ShootingOptions::kMaxIterations.text() +
@@ -353,7 +358,10 @@ int run_indirect(const Scene& scene, const M& m, const OcpCommand& cmd, const st
 }  // namespace
 
 int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std::ostream& out, std::ostream& err) {
-  const fs::path file = resolve_ocp_scene(cmd.system, default_scenes_dir());
+  const fs::path file = cmd.scene ? cmd.scene->file : resolve_ocp_scene(cmd.system, default_scenes_dir());
+  const auto load = [&](const SceneOverrides& overrides) {
+    return cmd.scene ? parse_scene(*cmd.scene->text, cmd.scene->file, overrides) : load_scene(file, overrides);
+  };
   ocp_output::check_step_options(cmd);
   SceneOverrides overrides;
   if (cmd.form) overrides.form = ocp_output::parse_form(cmd);
@@ -362,14 +370,24 @@ int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std:
   // With --steps and --t-final the step is known at once (the scene's h over the new horizon
   // may be more steps than an [ocp] scene takes); with --steps alone, from the scene's horizon.
   if (cmd.steps && cmd.t_final) overrides.h = *cmd.t_final / static_cast<double>(*cmd.steps);
-  Scene scene = load_scene(file, overrides);
+  Scene scene = load(overrides);
   if (cmd.steps && !cmd.t_final) {
     overrides.h = scene.horizon.t_final / static_cast<double>(*cmd.steps);
-    scene = load_scene(file, overrides);
+    scene = load(overrides);
   }
   if (!scene.ocp) {
     throw SceneError(file.string(), "ocp",
                      "is required (the optimal control problem: an [ocp] table, experiments/scenes/README.md)");
+  }
+  if (!cmd.weight.empty()) {
+    auto replaced = std::make_shared<OcpDefinition>(*scene.ocp);
+    const int nu = visit_binding(scene.model, [](auto, const auto& m) {
+      return OcpBinding<std::decay_t<decltype(m)>>::nu;
+    });
+    const Eigen::MatrixXd W = weight_matrix(cmd.weight, nu, "--weight");
+    replaced->indirect.W = W;
+    replaced->direct.W = W;
+    scene.ocp = std::move(replaced);
   }
   check_method_options(cmd, scene.ocp->method);
   return visit_binding(scene.model, [&](auto, const auto& m) {

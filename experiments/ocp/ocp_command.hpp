@@ -33,6 +33,12 @@ struct OcpCommand {
   /// paper's examples: "dumbbell", "pendulum", "cart-pendulum", "connected-bodies"), or a scene
   /// name (resolve_ocp_scene).
   std::string system;
+  /// A scene made in memory (Python) in place of `system`'s file; `system` then only names it in
+  /// messages. Parsed again from its text with the overrides below.
+  std::shared_ptr<const Scene> scene;
+  /// Replaces [ocp] W: n_u values (the diagonal) or n_u^2 (the matrix row by row), checked as the
+  /// file's W (symmetric positive definite); empty: the scene's.
+  std::vector<double> weight;
   std::optional<std::string> form;  ///< replaces [integration] form
   std::optional<double> h;          ///< replaces [integration] h; (0, 1e100]
   std::optional<long long> steps;   ///< instead of h: h = t_final / steps; [1, 10^6] (kOcpSteps)

@@ -181,7 +181,8 @@ int solve_and_write(const typename Model::System& system, const typename Model::
     start_iterations.push_back(static_cast<double>(s.iterations));
   }
   write_json_object(files.summary, f,
-                    {{"knot_times", values(knot_times)},
+                    {{"W", ocp_output::weight_values(options.W, B::nu)},
+                     {"knot_times", values(knot_times)},
                      {"initial_knots", values(S.best_start >= 0 ? S.starts[S.best_start].initial_knots : S.initial_knots)},
                      {"knot_values", values(S.knot_values)},
                      {"start_costs", start_costs},
@@ -288,7 +289,8 @@ int solve_and_write_ddp(const typename Model::System& system, const typename Mod
     start_iterations.push_back(static_cast<double>(s.iterations));
   }
   write_json_object(files.summary, f,
-                    {{"start_costs", start_costs}, {"start_violations", start_violations},
+                    {{"W", ocp_output::weight_values(options.W, B::nu)},
+                     {"start_costs", start_costs}, {"start_violations", start_violations},
                      {"start_iterations", start_iterations}});
   return ocp_output::finish(cmd, S, files, {files.history, files.trajectory, files.summary}, out, err);
 }

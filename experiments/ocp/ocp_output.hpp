@@ -70,6 +70,13 @@ inline std::string weight_text(const Eigen::MatrixXd& W) {
   return join(Eigen::Map<const Eigen::VectorXd>(Wt.data(), Wt.size()));
 }
 
+/// The summary JSON's "W": its n x n entries row by row (the identity's when W is empty).
+inline std::vector<double> weight_values(const Eigen::MatrixXd& W, int n) {
+  const Eigen::MatrixXd full = W.size() == 0 ? Eigen::MatrixXd::Identity(n, n) : W;
+  const Eigen::MatrixXd Wt = full.transpose();  // row by row
+  return {Wt.data(), Wt.data() + Wt.size()};
+}
+
 /// The range of --h, --t-final and --sphere-radius: a positive number, at most the scene files'
 /// largest magnitude (lgvi/range.hpp); a horizon or step the scene cannot take is then the scene's
 /// error (integration.h (--h): ...).

@@ -29,7 +29,7 @@ void write_json_object(const std::filesystem::path& target, const Fields& fields
     if (array != arrays.end()) {
       // The key as to_json writes it (escaped), then the numbers.
       line = to_json({{f.key, std::int64_t{0}}});
-      line = line.substr(1, line.rfind(':') + 1) + " [";
+      line = line.substr(1, line.rfind(':')) + " [";
       for (std::size_t k = 0; k < array->second.size(); ++k) {
         const double x = array->second[k];
         line += (k > 0 ? ", " : "") + (std::isfinite(x) ? shortest(x) : std::string("null"));

@@ -78,6 +78,42 @@ void validate_table(const SceneReader& r, const SceneTable& t, const Options& o)
   }
 }
 
+}  // namespace
+
+void check_weight(const Eigen::MatrixXd& W, const std::string& field) {
+  const Eigen::Index n = W.rows();
+  if (!W.allFinite()) throw InvalidInput(field, "has a non-finite entry (must be symmetric positive definite)");
+  const double scale = W.cwiseAbs().maxCoeff();
+  if (scale == 0.0) throw InvalidInput(field, "is zero (must be symmetric positive definite)");
+  if ((W - W.transpose()).cwiseAbs().maxCoeff() > 1e-12 * scale) {
+    throw InvalidInput(field, "is not symmetric (must be symmetric positive definite)");
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (W + W.transpose()), Eigen::EigenvaluesOnly);
+  if (!(eig.eigenvalues()(0) > 1e-14 * eig.eigenvalues()(n - 1))) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3g", eig.eigenvalues()(0));
+    throw InvalidInput(field, std::string("is not positive definite (smallest eigenvalue ") + buf + ")");
+  }
+}
+
+Eigen::MatrixXd weight_matrix(const std::vector<double>& values, int n, const std::string& field) {
+  const auto count = static_cast<int>(values.size());
+  Eigen::MatrixXd W;
+  if (count == n) {
+    W = Eigen::Map<const Eigen::VectorXd>(values.data(), n).asDiagonal();
+  } else if (count == n * n) {
+    W = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(values.data(), n, n);
+  } else {
+    throw InvalidInput(field, "needs " + std::to_string(n) + " values (the diagonal) or " + std::to_string(n * n) +
+                                  " (the matrix row by row) for this system's " + std::to_string(n) +
+                                  " controls (got " + std::to_string(count) + ")");
+  }
+  check_weight(W, field);
+  return W;
+}
+
+namespace {
+
 /// W: an n x n matrix, symmetric (to 1e-12 of its largest entry) and positive definite (smallest
 /// eigenvalue above 1e-14 of the largest: the indirect method inverts W, eq. 17, and the direct
 /// method's cost must bound every control). The solvers check the same (lgvi/ocp); here the file
@@ -85,16 +121,11 @@ void validate_table(const SceneReader& r, const SceneTable& t, const Options& o)
 Eigen::MatrixXd read_weight(const SceneReader& r, const SceneTable& ocp, int n) {
   if (!r.has(ocp, "W")) return {};
   const Eigen::MatrixXd W = r.matrix(ocp, "W", n);
-  const double scale = W.cwiseAbs().maxCoeff();
-  if (scale == 0.0) r.fail("ocp.W", "is zero (must be symmetric positive definite)");
-  if ((W - W.transpose()).cwiseAbs().maxCoeff() > 1e-12 * scale) {
-    r.fail("ocp.W", "is not symmetric (must be symmetric positive definite)");
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (W + W.transpose()), Eigen::EigenvaluesOnly);
-  if (!(eig.eigenvalues()(0) > 1e-14 * eig.eigenvalues()(n - 1))) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.3g", eig.eigenvalues()(0));
-    r.fail("ocp.W", std::string("is not positive definite (smallest eigenvalue ") + buf + ")");
+  try {
+    check_weight(W, "ocp.W");
+  } catch (const InvalidInput& e) {
+    const std::string what = e.what();
+    r.fail("ocp.W", what.substr(std::min(what.size(), e.field().size() + 2)));
   }
   return W;
 }

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -55,6 +56,14 @@ std::shared_ptr<const OcpDefinition> read_ocp_table(const SceneReader& r, const 
 /// NAME as scenes_dir/ocp-NAME.toml when that exists (the shipped examples: `ocp pendulum` is
 /// ocp-pendulum.toml), else resolve_scene(NAME). Throws SceneError for an unknown name.
 std::filesystem::path resolve_ocp_scene(const std::string& name_or_path, const std::filesystem::path& scenes_dir);
+
+/// Checks a weight W: finite, symmetric (to 1e-12 of its largest entry) and positive definite
+/// (smallest eigenvalue above 1e-14 of the largest). Throws InvalidInput(field, reason).
+void check_weight(const Eigen::MatrixXd& W, const std::string& field);
+
+/// W from n values (its diagonal) or n^2 (the matrix row by row), checked by check_weight.
+/// Throws InvalidInput naming `field` for another count or a W that is not SPD.
+Eigen::MatrixXd weight_matrix(const std::vector<double>& values, int n, const std::string& field);
 
 /// The label of a scene's ocp output files: its name without a leading "ocp-" (ocp-pendulum.toml
 /// writes ocp-pendulum-*.csv).

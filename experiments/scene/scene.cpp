@@ -200,6 +200,7 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   // missing from a file written without one.
   if (const auto warning = truncation_warning(toml_text, file_name)) scene.warnings.push_back(*warning);
   scene.inputs = reader.inputs();
+  scene.text = std::make_shared<const std::string>(toml_text);
   return scene;
 }
 

@@ -115,6 +115,9 @@ struct Scene {
   /// The other files the scene was read from (a piecewise-linear control's samples), in reading
   /// order: what a run of it depends on besides `file` (the resume fingerprints hash them).
   std::vector<std::filesystem::path> inputs = {};
+  /// The TOML text the scene was parsed from: a scene made in memory (Python's parse_scene,
+  /// make_scene) is parsed again from it with other overrides (`solve_ocp(scene, t_final=...)`).
+  std::shared_ptr<const std::string> text = {};
 
   const char* system() const { return system_name(model); }
 };

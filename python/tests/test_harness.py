@@ -197,7 +197,7 @@ def test_ocp_indirect_and_direct_with_both_solvers():
         lgvi.solve_ocp("cart-pendulum", solver="nope", steps=100)
     with pytest.raises(ValueError, match="bicycle: unknown scene"):
         lgvi.solve_ocp("bicycle")
-    with pytest.raises(ValueError, match="not an option"):
+    with pytest.raises(TypeError, match="unexpected keyword argument 'stepz'"):
         lgvi.solve_ocp("pendulum", stepz=10)
 
 
