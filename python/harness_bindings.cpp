@@ -29,6 +29,8 @@
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/data_dir.hpp"
 #include "experiments/suites/study.hpp"
+#include "experiments/systems/systems.hpp"
+#include "lgvi/systems/potential_body.hpp"
 #include "experiments/output/csv_writer.hpp"
 #include "experiments/methods/method.hpp"
 #include "experiments/ocp/ocp_command.hpp"
@@ -329,6 +331,157 @@ ex::Scene make_scene(const std::string& system, const py::dict& parameters, cons
   return ex::parse_scene(text.str(), fs::path(name + ".toml"));
 }
 
+// --- a potential from Python callables -----------------------------------------------------------
+
+using Mat3 = lgvi::Mat3;
+using Vec3 = lgvi::Vec3;
+
+/// R as a (3, 3) array.
+py::array_t<double> matrix_array(const Mat3& R) {
+  py::array_t<double> a({py::ssize_t{3}, py::ssize_t{3}});
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) a.mutable_at(i, j) = R(i, j);
+  return a;
+}
+
+/// The Python callables of a user potential (lgvi::UserPotential) and what they ran into: the
+/// first failure (a callable that raised, a value of the wrong shape, a non-finite one), kept
+/// until the run that met it has ended. After a failure the callables answer NaN without calling
+/// Python, so every method stops at once. Held by shared_ptr: copies of the scene (made with the
+/// GIL released) copy no Python reference; the last owner takes the GIL to release them.
+struct CallbackRecord {
+  py::object potential, moment;
+  std::string failure;  ///< "moment(R) returned array([1., 2.]) (expected 3 floats)"; empty: none
+  py::object cause;     ///< the exception a callable raised, if any
+  long long calls = 0;  ///< calls of either callable, over the record's life
+  ~CallbackRecord() {
+    py::gil_scoped_acquire gil;
+    potential = py::object();
+    moment = py::object();
+    cause = py::object();
+  }
+};
+
+/// Calls `callable`(R) with the GIL taken (a run releases it); `convert` gives the value or
+/// nullopt for a wrong type or shape. Any failure is recorded and answered with NaN.
+template <class Result, class Convert>
+Result call_back(CallbackRecord& record, const py::object& callable, const char* name, const char* expected,
+                 const Mat3& R, Convert convert) {
+  Result value = Result::Constant(std::numeric_limits<double>::quiet_NaN());
+  py::gil_scoped_acquire gil;
+  if (!record.failure.empty()) return value;
+  ++record.calls;
+  try {
+    const py::object returned = callable(matrix_array(R));
+    const std::optional<Result> converted = convert(returned);
+    if (!converted) {
+      record.failure = std::string(name) + "(R) returned " +
+                       py::str(py::repr(returned)).cast<std::string>().substr(0, 200) + " (expected " + expected + ")";
+    } else if (!converted->allFinite()) {
+      record.failure = std::string(name) + "(R) returned a non-finite value";
+    } else {
+      value = *converted;
+    }
+  } catch (py::error_already_set& e) {
+    record.failure = std::string(name) + "(R) raised " + py::str(e.type().attr("__name__")).cast<std::string>() +
+                     ": " + py::str(e.value()).cast<std::string>();
+    record.cause = e.value();
+  }
+  return value;
+}
+
+using Scalar1 = Eigen::Matrix<double, 1, 1>;
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// The user potential's U(R) (a std::function target that carries the record).
+struct UserEnergy {
+  std::shared_ptr<CallbackRecord> record;
+  double operator()(const Mat3& R) const {
+    return call_back<Scalar1>(*record, record->potential, "potential", "a float", R,
+                              [](const py::object& v) -> std::optional<Scalar1> {
+                                // A Python or numpy real scalar (numpy's are float subclasses or 0-d).
+                                const auto a = py::array_t<double, py::array::forcecast>::ensure(v);
+                                if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v) || !a || a.ndim() != 0) {
+                                  return std::nullopt;
+                                }
+                                return Scalar1::Constant(*a.data());
+                              })(0);
+  }
+};
+
+/// The user potential's M(R).
+struct UserMoment {
+  std::shared_ptr<CallbackRecord> record;
+  Vec3 operator()(const Mat3& R) const {
+    return call_back<Vec3>(*record, record->moment, "moment", "3 floats", R, [](const py::object& v) -> std::optional<Vec3> {
+      const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(v);
+      if (py::isinstance<py::str>(v) || !a || a.ndim() != 1 || a.shape(0) != 3) return std::nullopt;
+      return Vec3(a.at(0), a.at(1), a.at(2));
+    });
+  }
+};
+
+/// The record of a scene made by potential_scene, else null.
+std::shared_ptr<CallbackRecord> user_record(const ex::Scene& scene) {
+  const auto* body = std::get_if<ex::PotentialBodyModel>(&scene.model);
+  if (body == nullptr) return nullptr;
+  const auto* user = std::get_if<lgvi::UserPotential>(&body->system.term);
+  if (user == nullptr) return nullptr;
+  const auto* energy = user->energy.target<UserEnergy>();
+  return energy != nullptr ? energy->record : nullptr;
+}
+
+/// A scene of the system potential-body whose potential is the Python callables potential(R) ->
+/// float and moment(R) -> (3,), checked once at the initial attitude.
+ex::Scene potential_scene(const py::object& inertia, const py::object& potential, const py::object& moment,
+                          const py::dict& initial, double h, double t_final, const std::string& form,
+                          std::int64_t output_every, const std::optional<py::dict>& control, const std::string& name,
+                          const std::optional<std::string>& description) {
+  if (!PyCallable_Check(potential.ptr())) throw py::type_error("potential: expected a callable U(R) -> float");
+  if (!PyCallable_Check(moment.ptr())) throw py::type_error("moment: expected a callable M(R) -> (3,) array");
+  // A placeholder (a dipole of zero moment) gives the scene its inertia, initial state, horizon
+  // and control, read and validated as a scene file's; the callables then replace it.
+  py::dict parameters;
+  parameters["inertia"] = inertia;
+  parameters["potential"] = "magnetic-dipole";
+  parameters["dipole"] = py::make_tuple(0.0, 0.0, 0.0);
+  parameters["field"] = py::make_tuple(0.0, 0.0, 0.0);
+  py::dict start = initial;
+  if (start.empty()) start["Omega"] = py::make_tuple(0.0, 0.0, 0.0);  // R = I, at rest
+  ex::Scene scene = make_scene("potential-body", parameters, start, h, t_final, form, output_every, control, name,
+                               description ? description : std::optional<std::string>("a potential defined in Python"));
+  auto record = std::make_shared<CallbackRecord>();
+  record->potential = potential;
+  record->moment = moment;
+  auto& body = std::get<ex::PotentialBodyModel>(scene.model);
+  body.system = lgvi::PotentialBody(body.system.inertia.J, lgvi::UserPotential{UserEnergy{record}, UserMoment{record}});
+  // The callables' answers at the initial attitude: a bad one is an error now, not mid-run.
+  (void)body.system.potential(body.initial.R);
+  (void)body.system.moment(body.initial.R);
+  if (!record->failure.empty()) {
+    const std::string failure = record->failure;
+    record->failure.clear();
+    throw py::value_error(failure + " (at the initial attitude)");
+  }
+  scene.text = nullptr;  // no source text: the callables are not TOML
+  return scene;
+}
+
+/// After a run of a user-potential scene: a failure of a callable becomes CallbackError naming the
+/// callable, the reason and where the run stopped (its status); its __cause__ is the callable's
+/// exception, if it raised.
+void raise_callback_failure(const ex::Scene& scene, const std::string& where) {
+  const std::shared_ptr<CallbackRecord> record = user_record(scene);
+  if (!record || record->failure.empty()) return;
+  const std::string message = record->failure + "; the run stopped: " + where;
+  py::object error = py::module_::import("lgvi._lgvi").attr("CallbackError")(message);
+  if (record->cause) PyException_SetCause(error.ptr(), record->cause.inc_ref().ptr());
+  record->failure.clear();
+  record->cause = py::object();
+  PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(error.ptr())), error.ptr());
+  throw py::error_already_set();
+}
+
 // --- simulate -------------------------------------------------------------------------------------
 
 py::dict simulate_scene(const ex::Scene& scene, const std::string& method_name, std::optional<std::string> model,
@@ -354,6 +507,7 @@ py::dict simulate_scene(const ex::Scene& scene, const std::string& method_name, 
     py::gil_scoped_release release;
     summary = ex::simulate(scene, *method, {file, "python: lgvi.simulate", {}});
   }
+  raise_callback_failure(scene, summary.stats.brief());
   py::dict out = columns_dict(read_csv(file));
   out["summary"] = fields_dict(summary.to_fields());
   out["csv"] = csv ? py::cast(*csv) : py::object(py::none());
@@ -725,6 +879,24 @@ void bind_harness(py::module_& m) {
         "(numbers, lists or numpy arrays), e.g. make_scene('free-body', {'inertia': [1, 2, 3]}, "
         "{'Omega': [0.1, 1, 0.1]}, h=0.01, t_final=10). Validated like a scene file.");
 
+  // A failure of a user potential's callable (potential_scene), raised after the run it stopped.
+  m.attr("CallbackError") = py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
+      "lgvi.CallbackError",
+      "A callable of a user potential (potential_scene) raised, returned the wrong shape or a non-finite "
+      "value during a run: the message names the callable, the reason and where the run stopped; __cause__ "
+      "is the callable's own exception.",
+      PyExc_RuntimeError, nullptr));
+  m.def("potential_scene", &potential_scene, py::arg("inertia"), py::arg("potential"), py::arg("moment"),
+        py::arg("initial") = py::dict(), py::kw_only(), py::arg("h"), py::arg("t_final"), py::arg("form") = "symmetric",
+        py::arg("output_every") = 1, py::arg("control") = py::none(), py::arg("name") = "user-potential",
+        py::arg("description") = py::none(),
+        "A scene of a rigid body in a potential defined in Python: inertia (3,) or (3, 3) [kg m^2]; "
+        "potential(R) -> float, U [J]; moment(R) -> (3,), M(R) with hat(M) = dU/dR^T R - R^T dU/dR (eq. 13: "
+        "minus the left-trivialized derivative, d/de U(R exp(hat(e))) = -M at e = 0); initial (default: R = I at "
+        "rest), control and the horizon as make_scene's ('potential-body' system). simulate(scene, method) runs it with every method "
+        "that takes potential-body. A callable that raises or returns a wrong shape or a non-finite value stops "
+        "the run, and simulate raises CallbackError naming it and the step; checked once at the initial "
+        "attitude here (ValueError).");
   m.def("methods", &method_list,
         "Every registered method: name, family, order, stages, fixed_step, uses_jacobian, models, takes_form, "
         "legend, traits {symmetric, variational, stays_on_group, preserves_momentum_map, adaptive, "

@@ -9,7 +9,8 @@
 //   magnetic dipole m [A m^2] (body frame) in a uniform field B [T] (inertial frame):
 //       U(R) = -B^T R m,
 //       M(R) = m x R^T B,
-//     which conserves the angular momentum about the field, B^T R J Omega.
+//     which conserves the angular momentum about the field, B^T R J Omega;
+//   a user's potential: callables U(R) and M(R) (UserPotential; Python's lgvi.potential_scene).
 //
 // M is the moment of eq. 13, hat(M) = (dU/dR)^T R - R^T dU/dR, i.e. minus the left-trivialized
 // derivative: d/de U(R exp(hat(e))) at e = 0 is -M (tests/lgvi/test_potential_body.cpp checks
@@ -17,6 +18,7 @@
 // and every attitude baseline (AttitudeMechanics) run it unchanged.
 #pragma once
 
+#include <functional>
 #include <utility>
 #include <variant>
 
@@ -43,7 +45,19 @@ struct MagneticDipole {
   Vec3 moment(const Mat3& R) const { return dipole.cross(R.transpose() * field); }
 };
 
-using AttitudePotential = std::variant<AttitudeSpring, MagneticDipole>;
+/// A potential given by two callables: U(R) [J] and its moment M(R) (eq. 13, the convention
+/// above), a C++ user's or Python's (the module's potential_scene). They must not throw (the
+/// integrators and the C solvers beneath the baselines cannot unwind): a failure is a non-finite
+/// value, which ends every method's run with its non-finite status; the caller keeps the reason.
+/// Each is called once per potential evaluation (the LGVI: once per step).
+struct UserPotential {
+  std::function<double(const Mat3&)> energy;
+  std::function<Vec3(const Mat3&)> torque;
+  double potential(const Mat3& R) const { return energy(R); }
+  Vec3 moment(const Mat3& R) const { return torque(R); }
+};
+
+using AttitudePotential = std::variant<AttitudeSpring, MagneticDipole, UserPotential>;
 
 class PotentialBody {
  public:
@@ -66,10 +80,13 @@ class PotentialBody {
       if (!(defect <= 1e-9) || !(spring->target.determinant() > 0.0)) {
         throw InvalidInput("target", "must be a rotation matrix (||R^T R - I||_F <= 1e-9, det R = +1)");
       }
+    } else if (const auto* dipole = std::get_if<MagneticDipole>(&term)) {
+      require_finite(dipole->dipole, "dipole");
+      require_finite(dipole->field, "field");
     } else {
-      const auto& dipole = std::get<MagneticDipole>(term);
-      require_finite(dipole.dipole, "dipole");
-      require_finite(dipole.field, "field");
+      const auto& user = std::get<UserPotential>(term);
+      if (!user.energy) throw InvalidInput("potential", "is not set (a callable U(R))");
+      if (!user.torque) throw InvalidInput("moment", "is not set (a callable M(R))");
     }
   }
 
