@@ -22,6 +22,9 @@ packages=(
   pybind11-dev           # the Python module's bindings
   python3-numpy          # its arrays, and the pytest suite's
   python3-pytest         # the Python tests (ctest python_tests)
+  python3-nbclient       # executes the example notebook in a Jupyter kernel (ctest notebook_quick_start)
+  python3-nbformat       # reads and validates it
+  python3-ipykernel      # the kernel
   gnuplot-nox            # plots (pngcairo)
   fonts-dejavu-core      # a font for the PNG plots (not pulled in without recommends)
   clang                  # tests/sanitize.sh: the ASan+UBSan build and the libFuzzer target

@@ -73,6 +73,21 @@ def test_the_stubs_are_those_of_the_package():
             assert committed.read() == text, f"python/lgvi/{file} is stale: run python/make_stubs.py"
 
 
+def test_the_example_notebook_is_written_from_its_percent_file():
+    """examples/python/quick_start.ipynb is what percent_to_notebook.py writes from quick_start.py
+    (regenerate: python3 python/percent_to_notebook.py examples/python/quick_start.py
+    examples/python/quick_start.ipynb)."""
+    sys.path.insert(0, os.path.dirname(HERE))
+    try:
+        import percent_to_notebook
+    finally:
+        sys.path.pop(0)
+    examples = os.path.join(os.path.dirname(os.path.dirname(HERE)), "examples", "python")
+    with open(os.path.join(examples, "quick_start.py")) as source, \
+            open(os.path.join(examples, "quick_start.ipynb")) as committed:
+        assert committed.read() == percent_to_notebook.notebook(source.read()), "quick_start.ipynb is stale"
+
+
 @harness
 def test_solve_ocp_takes_a_scene_and_overrides_W_and_the_horizon(tmp_path):
     """A Scene made in memory is the same problem as its file; W, steps and t_final override it.
