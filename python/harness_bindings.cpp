@@ -350,7 +350,7 @@ py::array_t<double> matrix_array(const Mat3& R) {
 /// Python, so every method stops at once. Held by shared_ptr: copies of the scene (made with the
 /// GIL released) copy no Python reference; the last owner takes the GIL to release them.
 struct CallbackRecord {
-  py::object potential, moment;
+  py::object potential, moment, torque;
   std::string failure;  ///< "moment(R) returned array([1., 2.]) (expected 3 floats)"; empty: none
   py::object cause;     ///< the exception a callable raised, if any
   long long calls = 0;  ///< calls of either callable, over the record's life
@@ -358,32 +358,33 @@ struct CallbackRecord {
     py::gil_scoped_acquire gil;
     potential = py::object();
     moment = py::object();
+    torque = py::object();
     cause = py::object();
   }
 };
 
-/// Calls `callable`(R) with the GIL taken (a run releases it); `convert` gives the value or
-/// nullopt for a wrong type or shape. Any failure is recorded and answered with NaN.
-template <class Result, class Convert>
-Result call_back(CallbackRecord& record, const py::object& callable, const char* name, const char* expected,
-                 const Mat3& R, Convert convert) {
+/// Calls `call`() (a callable of the record on its arguments) with the GIL taken (a run releases
+/// it); `convert` gives the value or nullopt for a wrong type or shape. Any failure is recorded
+/// and answered with NaN. `name`: "moment(R)", "torque(t, R, Omega)".
+template <class Result, class Call, class Convert>
+Result call_back(CallbackRecord& record, const char* name, const char* expected, Call call, Convert convert) {
   Result value = Result::Constant(std::numeric_limits<double>::quiet_NaN());
   py::gil_scoped_acquire gil;
   if (!record.failure.empty()) return value;
   ++record.calls;
   try {
-    const py::object returned = callable(matrix_array(R));
+    const py::object returned = call();
     const std::optional<Result> converted = convert(returned);
     if (!converted) {
-      record.failure = std::string(name) + "(R) returned " +
+      record.failure = std::string(name) + " returned " +
                        py::str(py::repr(returned)).cast<std::string>().substr(0, 200) + " (expected " + expected + ")";
     } else if (!converted->allFinite()) {
-      record.failure = std::string(name) + "(R) returned a non-finite value";
+      record.failure = std::string(name) + " returned a non-finite value";
     } else {
       value = *converted;
     }
   } catch (py::error_already_set& e) {
-    record.failure = std::string(name) + "(R) raised " + py::str(e.type().attr("__name__")).cast<std::string>() +
+    record.failure = std::string(name) + " raised " + py::str(e.type().attr("__name__")).cast<std::string>() +
                      ": " + py::str(e.value()).cast<std::string>();
     record.cause = e.value();
   }
@@ -393,11 +394,18 @@ Result call_back(CallbackRecord& record, const py::object& callable, const char*
 using Scalar1 = Eigen::Matrix<double, 1, 1>;
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
+/// A returned (3,) array-like, or nullopt.
+std::optional<Vec3> vector_of(const py::object& v) {
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(v);
+  if (py::isinstance<py::str>(v) || !a || a.ndim() != 1 || a.shape(0) != 3) return std::nullopt;
+  return Vec3(a.at(0), a.at(1), a.at(2));
+}
+
 /// The user potential's U(R) (a std::function target that carries the record).
 struct UserEnergy {
   std::shared_ptr<CallbackRecord> record;
   double operator()(const Mat3& R) const {
-    return call_back<Scalar1>(*record, record->potential, "potential", "a float", R,
+    return call_back<Scalar1>(*record, "potential(R)", "a float", [&] { return record->potential(matrix_array(R)); },
                               [](const py::object& v) -> std::optional<Scalar1> {
                                 // A Python or numpy real scalar (numpy's are float subclasses or 0-d).
                                 const auto a = py::array_t<double, py::array::forcecast>::ensure(v);
@@ -413,11 +421,22 @@ struct UserEnergy {
 struct UserMoment {
   std::shared_ptr<CallbackRecord> record;
   Vec3 operator()(const Mat3& R) const {
-    return call_back<Vec3>(*record, record->moment, "moment", "3 floats", R, [](const py::object& v) -> std::optional<Vec3> {
-      const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(v);
-      if (py::isinstance<py::str>(v) || !a || a.ndim() != 1 || a.shape(0) != 3) return std::nullopt;
-      return Vec3(a.at(0), a.at(1), a.at(2));
-    });
+    return call_back<Vec3>(*record, "moment(R)", "3 floats", [&] { return record->moment(matrix_array(R)); },
+                           vector_of);
+  }
+};
+
+/// The user's torque u(t, R, Omega), a body-frame moment (the scene's feedback law).
+struct UserTorque {
+  std::shared_ptr<CallbackRecord> record;
+  Vec3 operator()(double t, const Mat3& R, const Vec3& Omega) const {
+    return call_back<Vec3>(*record, "torque(t, R, Omega)", "3 floats",
+                           [&] {
+                             py::array_t<double> omega(3);
+                             for (int i = 0; i < 3; ++i) omega.mutable_at(i) = Omega(i);
+                             return record->torque(t, matrix_array(R), omega);
+                           },
+                           vector_of);
   }
 };
 
@@ -432,13 +451,18 @@ std::shared_ptr<CallbackRecord> user_record(const ex::Scene& scene) {
 }
 
 /// A scene of the system potential-body whose potential is the Python callables potential(R) ->
-/// float and moment(R) -> (3,), checked once at the initial attitude.
+/// float and moment(R) -> (3,) and, optionally, the torque u(t, R, Omega) -> (3,); each checked once at the
+/// initial state.
 ex::Scene potential_scene(const py::object& inertia, const py::object& potential, const py::object& moment,
                           const py::dict& initial, double h, double t_final, const std::string& form,
-                          std::int64_t output_every, const std::optional<py::dict>& control, const std::string& name,
-                          const std::optional<std::string>& description) {
+                          std::int64_t output_every, const py::object& torque, const std::optional<py::dict>& control,
+                          const std::string& name, const std::optional<std::string>& description) {
   if (!PyCallable_Check(potential.ptr())) throw py::type_error("potential: expected a callable U(R) -> float");
   if (!PyCallable_Check(moment.ptr())) throw py::type_error("moment: expected a callable M(R) -> (3,) array");
+  if (!torque.is_none() && !PyCallable_Check(torque.ptr())) {
+    throw py::type_error("torque: expected a callable u(t, R, Omega) -> (3,) array, or None");
+  }
+  if (!torque.is_none() && control) throw py::value_error("torque: give torque or control, not both");
   // A placeholder (a dipole of zero moment) gives the scene its inertia, initial state, horizon
   // and control, read and validated as a scene file's; the callables then replace it.
   py::dict parameters;
@@ -455,13 +479,20 @@ ex::Scene potential_scene(const py::object& inertia, const py::object& potential
   record->moment = moment;
   auto& body = std::get<ex::PotentialBodyModel>(scene.model);
   body.system = lgvi::PotentialBody(body.system.inertia.J, lgvi::UserPotential{UserEnergy{record}, UserMoment{record}});
-  // The callables' answers at the initial attitude: a bad one is an error now, not mid-run.
+  if (!torque.is_none()) {
+    record->torque = torque;
+    ex::AttitudeFeedback law;
+    law.law = UserTorque{record};
+    body.feedback = law;
+  }
+  // The callables' answers at the initial state: a bad one is an error now, not mid-run.
   (void)body.system.potential(body.initial.R);
   (void)body.system.moment(body.initial.R);
+  if (body.feedback) (void)body.feedback->moment(0.0, body.initial.R, body.initial.Omega);
   if (!record->failure.empty()) {
     const std::string failure = record->failure;
     record->failure.clear();
-    throw py::value_error(failure + " (at the initial attitude)");
+    throw py::value_error(failure + " (at the initial state)");
   }
   scene.text = nullptr;  // no source text: the callables are not TOML
   return scene;
@@ -888,15 +919,16 @@ void bind_harness(py::module_& m) {
       PyExc_RuntimeError, nullptr));
   m.def("potential_scene", &potential_scene, py::arg("inertia"), py::arg("potential"), py::arg("moment"),
         py::arg("initial") = py::dict(), py::kw_only(), py::arg("h"), py::arg("t_final"), py::arg("form") = "symmetric",
-        py::arg("output_every") = 1, py::arg("control") = py::none(), py::arg("name") = "user-potential",
+        py::arg("output_every") = 1, py::arg("torque") = py::none(), py::arg("control") = py::none(),
+        py::arg("name") = "user-potential",
         py::arg("description") = py::none(),
         "A scene of a rigid body in a potential defined in Python: inertia (3,) or (3, 3) [kg m^2]; "
         "potential(R) -> float, U [J]; moment(R) -> (3,), M(R) with hat(M) = dU/dR^T R - R^T dU/dR (eq. 13: "
         "minus the left-trivialized derivative, d/de U(R exp(hat(e))) = -M at e = 0); initial (default: R = I at "
         "rest), control and the horizon as make_scene's ('potential-body' system). simulate(scene, method) runs it with every method "
         "that takes potential-body. A callable that raises or returns a wrong shape or a non-finite value stops "
-        "the run, and simulate raises CallbackError naming it and the step; checked once at the initial "
-        "attitude here (ValueError).");
+        "the run, and simulate raises CallbackError naming it and the step; each is checked once at the initial "
+        "state here (ValueError).");
   m.def("methods", &method_list,
         "Every registered method: name, family, order, stages, fixed_step, uses_jacobian, models, takes_form, "
         "legend, traits {symmetric, variational, stays_on_group, preserves_momentum_map, adaptive, "

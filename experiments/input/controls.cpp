@@ -18,7 +18,8 @@ Vec3 TimeControl::operator()(double t_now) const {
   return amplitude.cwiseProduct(angle.sin().matrix());
 }
 
-Vec3 AttitudeFeedback::moment(const Mat3& R, const Vec3& Omega) const {
+Vec3 AttitudeFeedback::moment(double t, const Mat3& R, const Vec3& Omega) const {
+  if (law) return law(t, R, Omega);
   const Mat3 E = target.transpose() * R;
   return -kp * (0.5 * so3::vee(E - E.transpose())) - kd * Omega;
 }

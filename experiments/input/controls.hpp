@@ -2,6 +2,7 @@
 // ([control] tables, read by SceneReader; scenes/README.md).
 #pragma once
 
+#include <functional>
 #include <memory>
 
 #include "baselines/control.hpp"
@@ -37,12 +38,16 @@ struct TimeControl {
 /// e_R = sin(theta) n for an attitude error R_d^T R = exp(theta hat(n)): the first-order part of
 /// log(R_d^T R), smooth on all of SO(3) (no branch at theta = pi). kp in N m (per unit e_R),
 /// kd in N m s.
+/// A law of the user's in place of the PD one (`law`: Python's potential_scene torque, any t,
+/// R, Omega; it must not throw, a failure is a non-finite value).
 struct AttitudeFeedback {
   Mat3 target = Mat3::Identity();
   double kp = 0.0;
   double kd = 0.0;
+  std::function<Vec3(double, const Mat3&, const Vec3&)> law = {};  ///< set: tau = law(t, R, Omega)
 
-  Vec3 moment(const Mat3& R, const Vec3& Omega) const;
+  Vec3 moment(double t, const Mat3& R, const Vec3& Omega) const;
+  bool depends_on_time() const { return static_cast<bool>(law); }
 };
 
 }  // namespace lgvi::experiments

@@ -78,9 +78,11 @@ struct AttitudeBinding {
   }
   static bool controlled(const M& m) { return m.control || m.feedback; }
 
-  /// The system's control u for the feedback moment tau(R, Omega): the free body's u is tau (a
+  /// The system's control u for the feedback moment tau(t, R, Omega): the free body's u is tau (a
   /// binding whose control is not the moment itself hides this one, as the pendulum's does).
-  static Vec3 feedback_control(const M& m, const Mat3& R, const Vec3& Omega) { return m.feedback->moment(R, Omega); }
+  static Vec3 feedback_control(const M& m, double t, const Mat3& R, const Vec3& Omega) {
+    return m.feedback->moment(t, R, Omega);
+  }
   static std::string units() { return "t [s], R [1], Omega [rad/s], energy [J], momentum [kg m^2/s]"; }
 
   template <class Drive>
@@ -94,9 +96,10 @@ struct AttitudeBinding {
       out.Omega = lgvi.omega(s);
     };
     if (m.feedback) {
-      const FeedbackLgvi feedback(
-          lgvi, [&m](const Mat3& R, const Vec3& Omega) { return SystemBinding<M>::feedback_control(m, R, Omega); });
-      return drive(feedback, state, control, to_state);
+      const FeedbackLgvi feedback(lgvi, [&m](double t, const Mat3& R, const Vec3& Omega) {
+        return SystemBinding<M>::feedback_control(m, t, R, Omega);
+      });
+      return drive(feedback, state, [](double t) { return t; }, to_state);  // its control: the times
     }
     return drive(lgvi, state, control, to_state);
   }
@@ -109,10 +112,10 @@ struct AttitudeBinding {
     if (m.feedback) {
       const baselines::AttitudeMechanicsWithMoment<System> mech(
           m.system, control,
-          [&m](double /*t*/, const Mat3& R, const Vec3& Omega) {
-            return m.system.control_moment(R, SystemBinding<M>::feedback_control(m, R, Omega));
+          [&m](double t, const Mat3& R, const Vec3& Omega) {
+            return m.system.control_moment(R, SystemBinding<M>::feedback_control(m, t, R, Omega));
           },
-          {.time = false, .rate = true});
+          {.time = m.feedback->depends_on_time(), .rate = true});
       return chart(mech, std::array<Mat3, 1>{m.initial.R}, std::array<Vec3, 1>{m.initial.Omega},
                    baselines::Vector<0>(), baselines::Vector<0>());
     }

@@ -33,10 +33,10 @@ struct SystemBinding<BoundModel> : AttitudeBinding<PendulumModel> {
   static Conserved conserved(const PendulumModel& m, const State& s, double /*t*/) {
     return {m.system.energy(s.R, s.Omega), Vec3(m.system.vertical_momentum(s.R, s.Omega), 0.0, 0.0), 1};
   }
-  /// The control u for the feedback moment tau(R, Omega): tau x R^T e3, whose moment R^T e3 x u
+  /// The control u for the feedback moment tau(t, R, Omega): tau x R^T e3, whose moment R^T e3 x u
   /// is tau's part normal to the vertical (eq. 23's u cannot turn the pendulum about it).
-  static Vec3 feedback_control(const PendulumModel& m, const Mat3& R, const Vec3& Omega) {
-    return m.feedback->moment(R, Omega).cross(R.row(2).transpose());
+  static Vec3 feedback_control(const PendulumModel& m, double t, const Mat3& R, const Vec3& Omega) {
+    return m.feedback->moment(t, R, Omega).cross(R.row(2).transpose());
   }
   /// The pendulum itself (the free body's binding has its own: the sensitivity suite runs both).
   static const Pendulum3D& as_pendulum(const PendulumModel& m) { return m.system; }

@@ -41,11 +41,11 @@ TEST(PdControl, ReadsGainsAndTarget) {
   EXPECT_EQ(m.feedback->target, euler_rotation("ZYX", Vec3(1.0, 0.5, -0.3)));
   // At the target the attitude term is R_d^T R_d's antisymmetric part, rounding only (a few eps);
   // the rate term is -kd Omega.
-  EXPECT_LE(m.feedback->moment(m.feedback->target, Vec3::Zero()).norm(), 1e-15);
-  EXPECT_LE((m.feedback->moment(m.feedback->target, Vec3(1.0, 2.0, 3.0)) - Vec3(-0.4, -0.8, -1.2)).norm(), 1e-15);
+  EXPECT_LE(m.feedback->moment(0.0, m.feedback->target, Vec3::Zero()).norm(), 1e-15);
+  EXPECT_LE((m.feedback->moment(0.0, m.feedback->target, Vec3(1.0, 2.0, 3.0)) - Vec3(-0.4, -0.8, -1.2)).norm(), 1e-15);
   // A rotation error by theta about n gives -kp sin(theta) n.
   const Mat3 R = m.feedback->target * so3::exp(Vec3(0.0, 0.7, 0.0));
-  EXPECT_LE((m.feedback->moment(R, Vec3::Zero()) - Vec3(0.0, -0.5 * std::sin(0.7), 0.0)).norm(), 1e-15);
+  EXPECT_LE((m.feedback->moment(0.0, R, Vec3::Zero()) - Vec3(0.0, -0.5 * std::sin(0.7), 0.0)).norm(), 1e-15);
 }
 
 TEST(PdControl, BadInput) {
@@ -124,7 +124,7 @@ TEST(PdControl, SymmetricFormIsSecondOrderPrintedFirst) {
 TEST(PdControl, LgviConvergesToTheBaselineRightHandSide) {
   const FreeBodyModel m = std::get<FreeBodyModel>(parse_scene(kFreeBodyPd, "pd.toml").model);
   const baselines::AttitudeMechanicsWithMoment<FreeRigidBody> mech(
-      m.system, {}, [&m](double, const Mat3& R, const Vec3& Omega) { return m.feedback->moment(R, Omega); },
+      m.system, {}, [&m](double t, const Mat3& R, const Vec3& Omega) { return m.feedback->moment(t, R, Omega); },
       {.time = false, .rate = true});
   static_assert(baselines::Mechanics<baselines::AttitudeMechanicsWithMoment<FreeRigidBody>>);
   using Y = std::pair<Mat3, Vec3>;
