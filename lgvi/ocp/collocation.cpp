@@ -9,7 +9,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <ctime>
 #include <numbers>
 #include <string>
@@ -437,10 +436,6 @@ CollocationResult solve(const S& system, const Moments& moments, const TransferP
   o.SetNumericValue("constr_viol_tol", options.tolerance);
   o.SetNumericValue("acceptable_tol", 1e-6);
   o.SetNumericValue("acceptable_constr_viol_tol", options.tolerance);
-  if (std::getenv("LGVI_DEBUG_COLLOCATION") != nullptr) {
-    o.SetStringValue("derivative_test", "first-order");
-    o.SetIntegerValue("print_level", 5);
-  }
   if (app->Initialize(std::string()) != Ipopt::Solve_Succeeded) {
     S_.status = CollocationStatus::Failed;
     S_.ipopt_status = "Initialize_Failed";
