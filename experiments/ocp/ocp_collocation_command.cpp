@@ -121,18 +121,20 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
         rr = baselines::replay(system, problem, c, ro);
         status = rr.ok ? "ok" : rr.message;
       }
-      const double nan = std::numeric_limits<double>::quiet_NaN();
       const Fields replay = {
           {"replay", ro.method + ", rtol = atol = " + shortest(ro.rtol) +
                          ", quaternion model, controls piecewise-quadratic between the nodes"},
           {"replay_interpolation", std::string(baselines::to_string(c.interpolation))},
-          {"replayed_cost", rr.ok ? rr.cost : nan},
-          {"replayed_violation", rr.ok ? rr.violation : nan},
-          {"replayed_quaternion_drift", rr.ok ? rr.quaternion_drift : nan},
-          {"replay_seconds", rr.seconds},
           {"replay_status", status},
       };
       f.insert(f.end(), replay.begin(), replay.end());
+      if (rr.ok) {  // a failed replay has no numbers (its status says why)
+        const Fields numbers = {{"replayed_cost", rr.cost},
+                                {"replayed_violation", rr.violation},
+                                {"replayed_quaternion_drift", rr.quaternion_drift},
+                                {"replay_seconds", rr.seconds}};
+        f.insert(f.end(), numbers.begin(), numbers.end());
+      }
     }
     const Fields rest = {
         {"max_defect", S.max_defect},

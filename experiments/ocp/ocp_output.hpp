@@ -129,7 +129,7 @@ const System& with_sphere_radius(const System& s, const std::optional<double>& r
 /// rtol = atol = 1e-13, interpreted as the form's kicks apply them, appended as the summary's
 /// replay (what was run), replay_interpolation, replayed_cost, replayed_violation (the norm of
 /// violation_norm), replayed_quaternion_drift, replay_seconds and replay_status ("ok" or why not;
-/// then the numbers are null). u empty (no run of the method completed): not replayed.
+/// then those four numbers are left out, never NaN). u empty (no run of the method completed): not replayed.
 template <class System, class Problem>
 void add_replay_fields(Fields& f, const System& system, const Problem& problem, const Eigen::MatrixXd& u, double h,
                        LgviForm form, const Eigen::MatrixXd& W) {
@@ -151,19 +151,21 @@ void add_replay_fields(Fields& f, const System& system, const Problem& problem, 
       status = std::string("not replayed: ") + e.what();
     }
   }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   const bool ok = r.ok;
   const Fields replay = {
       {"replay", options.method + ", rtol = atol = " + shortest(options.rtol) + ", quaternion model, controls " +
                      baselines::to_string(c.interpolation) + " between the nodes"},
       {"replay_interpolation", std::string(baselines::to_string(c.interpolation))},
-      {"replayed_cost", ok ? r.cost : nan},
-      {"replayed_violation", ok ? r.violation : nan},
-      {"replayed_quaternion_drift", ok ? r.quaternion_drift : nan},
-      {"replay_seconds", r.seconds},
       {"replay_status", status},
   };
   f.insert(f.end(), replay.begin(), replay.end());
+  if (ok) {  // a failed replay has no numbers (its status says why); none is written as NaN
+    const Fields numbers = {{"replayed_cost", r.cost},
+                            {"replayed_violation", r.violation},
+                            {"replayed_quaternion_drift", r.quaternion_drift},
+                            {"replay_seconds", r.seconds}};
+    f.insert(f.end(), numbers.begin(), numbers.end());
+  }
 }
 
 /// The node controls of a vector of them as columns.

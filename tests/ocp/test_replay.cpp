@@ -156,6 +156,16 @@ TEST(Replay, BadControlsAreNamedErrors) {
                InvalidInput);
 }
 
+TEST(Replay, AnExhaustedStepBudgetIsAFailedReplayWithItsReason) {
+  const ReplayControls c = nodes(10, 2.0, ReplayInterpolation::ZeroOrderHold, [](double) { return Vec3(1, 0, 0); });
+  baselines::ReplayOptions o;
+  o.max_steps = 5;  // the free body's spin-up takes 3 steps per interval here
+  const ReplayResult r = baselines::replay(kBody, spin_up(1.0, 0.0, 2.0), c, o);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("step"), std::string::npos) << r.message;
+  EXPECT_TRUE(std::isnan(r.violation));
+}
+
 /// The pendulum's reorientation (section 3.2) solved in the symmetric form at N steps, its
 /// control replayed piecewise linearly.
 ReplayResult replayed_pendulum(int N) {
