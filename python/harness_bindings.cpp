@@ -808,6 +808,7 @@ py::dict solve_ocp(const std::variant<std::string, ex::Scene>& problem, const py
     else if (key == "hessian") cmd.hessian = option_value<std::string>(value, key);
     else if (key == "state_guess") cmd.state_guess = option_value<std::string>(value, key);
     else if (key == "shooting_interval") cmd.shooting_interval = option_value<long long>(value, key);
+    else if (key == "intervals") cmd.intervals = option_value<long long>(value, key);
     else if (key == "out") keep = option_value<fs::path>(value, key);
     else throw py::value_error(key + ": not an option of solve_ocp (see its docstring)");
   }

@@ -18,6 +18,7 @@
 #include "experiments/methods/simulate.hpp"
 #include "experiments/systems/systems.hpp"
 #include "experiments/systems/ocp.hpp"
+#include "lgvi/ocp/collocation.hpp"
 #include "lgvi/ocp/indirect.hpp"
 
 namespace lgvi::experiments {
@@ -103,6 +104,11 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
   for (const ResidualPart& p : B::violation_parts) {
     f.push_back({p.name, have_r ? r.segment(p.offset, p.size).norm() : S.violation});
   }
+  // The replayed yardstick of the final sweep's controls (the whole sweep only).
+  const bool complete = result.sweep.controls.size() == S.steps + 1;
+  ocp_output::add_replay_fields(f, system, problem,
+                                complete ? ocp_output::control_columns(result.sweep.controls) : Eigen::MatrixXd(),
+                                options.h, options.form, options.W);
   // The cost by the control's parts (W = I; with another W the split of u^T W u is not defined
   // and the parts are left out).
   if (ocp_output::weight_text(options.W) == "identity") {
@@ -236,7 +242,12 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
       ->transform(integer_text());
   cmd->add_option("--solver", o.solver,
                   "Direct method: slsqp (the paper's single shooting) | ipopt (multiple shooting) | ddp (iLQR on free "
-                  "node controls, augmented Lagrangian)");
+                  "node controls, augmented Lagrangian); any scene: collocation (Hermite-Simpson on the continuous "
+                  "quaternion model, IPOPT; pendulum and free body)");
+  cmd->add_option("--intervals", o.intervals,
+                  "--solver collocation: mesh intervals, in " + ocp::CollocationOptions::kIntervals.text() +
+                      " (default 100)")
+      ->transform(integer_text());
   cmd->add_option("--hessian", o.hessian,
                   "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
                   "constraint curvature left out) | exact (Hessian of the Lagrangian by forward differences of its "
@@ -389,6 +400,8 @@ int run_ocp_command(const OcpCommand& cmd, const std::string& command_line, std:
     replaced->direct.W = W;
     scene.ocp = std::move(replaced);
   }
+  if (cmd.solver && *cmd.solver == "collocation") return ocp_output::run_collocation(scene, cmd, command_line, out, err);
+  if (cmd.intervals) throw InvalidInput("--intervals", "applies to --solver collocation only");
   check_method_options(cmd, scene.ocp->method);
   return visit_binding(scene.model, [&](auto, const auto& m) {
     return scene.ocp->method == OcpMethod::Indirect ? run_indirect(scene, m, cmd, command_line, out, err)

@@ -64,6 +64,7 @@ struct OcpCommand {
   std::optional<std::string> hessian;     ///< ipopt: "limited-memory", "cost" or "exact"
   std::optional<std::string> state_guess; ///< ipopt: "geodesic" or "simulated" (initial shooting states)
   std::optional<long long> shooting_interval;  ///< ipopt: steps per shooting segment
+  std::optional<long long> intervals;     ///< collocation: mesh intervals (lgvi/ocp/collocation.hpp)
 };
 
 /// Registers the `ocp` subcommand on `app`, binding its options to `options` (which must outlive

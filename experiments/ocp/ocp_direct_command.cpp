@@ -94,6 +94,10 @@ int solve_and_write(const typename Model::System& system, const typename Model::
   if (have_r) {
     for (const ResidualPart& p : B::violation_parts) f.push_back({p.name, r.segment(p.offset, p.size).norm()});
   }
+  ocp_output::add_replay_fields(f, system, problem,
+                                result.controls.cols() == static_cast<Eigen::Index>(S.steps) + 1 ? Eigen::MatrixXd(result.controls)
+                                                                                                : Eigen::MatrixXd(),
+                                options.h, options.form, options.W);
   const Fields rest = {
       {"iterations", std::int64_t{S.iterations}},
       {"evaluations", std::int64_t{S.evaluations}},
@@ -230,6 +234,10 @@ int solve_and_write_ddp(const typename Model::System& system, const typename Mod
   if (r.size() > 0) {
     for (const ResidualPart& p : B::violation_parts) f.push_back({p.name, r.segment(p.offset, p.size).norm()});
   }
+  ocp_output::add_replay_fields(f, system, problem,
+                                result.controls.cols() == static_cast<Eigen::Index>(S.steps) + 1 ? Eigen::MatrixXd(result.controls)
+                                                                                                : Eigen::MatrixXd(),
+                                options.h, options.form, options.W);
   const Fields rest = {
       {"iterations", std::int64_t{S.iterations}},
       {"outer_iterations", std::int64_t{S.outer_iterations}},
@@ -378,7 +386,7 @@ int run_direct_for(const Scene& scene, const M& m, const OcpCommand& cmd, const 
       try {
         options.solver = ocp::parse_direct_solver(*cmd.solver);
       } catch (const InvalidInput&) {
-        throw InvalidInput("--solver", "must be 'slsqp', 'ipopt' or 'ddp' (got '" + *cmd.solver + "')");
+        throw InvalidInput("--solver", "must be 'slsqp', 'ipopt', 'ddp' or 'collocation' (got '" + *cmd.solver + "')");
       }
     }
     const bool ipopt = options.solver == ocp::DirectSolver::IpoptMultipleShooting;

@@ -10,12 +10,15 @@
 #include <algorithm>
 #include <filesystem>
 #include <initializer_list>
+#include <limits>
+#include <vector>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <system_error>
 #include <utility>
 
+#include "baselines/ocp_replay.hpp"
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/fields.hpp"
 #include "experiments/ocp/ocp_command.hpp"
@@ -128,10 +131,68 @@ const System& with_sphere_radius(const System& s, const std::optional<double>& r
   return s;
 }
 
+/// The replayed yardstick of a solved answer (baselines/ocp_replay.hpp): its node controls u
+/// (n_u x (N + 1), column j at t_j = j h) replayed on the quaternion model by gsl-rk8pd at
+/// rtol = atol = 1e-13, interpreted as the form's kicks apply them, appended as the summary's
+/// replay (what was run), replay_interpolation, replayed_cost, replayed_violation (the norm of
+/// violation_norm), replayed_quaternion_drift, replay_seconds and replay_status ("ok" or why not;
+/// then those four numbers are left out, never NaN). u empty (no run of the method completed): not replayed.
+template <class System, class Problem>
+void add_replay_fields(Fields& f, const System& system, const Problem& problem, const Eigen::MatrixXd& u, double h,
+                       LgviForm form, const Eigen::MatrixXd& W) {
+  const baselines::ReplayOptions options;
+  baselines::ReplayControls c;
+  c.u = u;
+  c.h = h;
+  c.interpolation = baselines::replay_interpolation(form);
+  c.W = W;
+  baselines::ReplayResult r;
+  std::string status;
+  if (u.cols() < 2) {
+    status = "not replayed: no control history";
+  } else {
+    try {
+      r = baselines::replay(system, problem, c, options);
+      status = r.ok ? "ok" : r.message;
+    } catch (const InvalidInput& e) {
+      status = std::string("not replayed: ") + e.what();
+    }
+  }
+  const bool ok = r.ok;
+  const Fields replay = {
+      {"replay", options.method + ", rtol = atol = " + shortest(options.rtol) + ", quaternion model, controls " +
+                     baselines::to_string(c.interpolation) + " between the nodes"},
+      {"replay_interpolation", std::string(baselines::to_string(c.interpolation))},
+      {"replay_status", status},
+  };
+  f.insert(f.end(), replay.begin(), replay.end());
+  if (ok) {  // a failed replay has no numbers (its status says why); none is written as NaN
+    const Fields numbers = {{"replayed_cost", r.cost},
+                            {"replayed_violation", r.violation},
+                            {"replayed_quaternion_drift", r.quaternion_drift},
+                            {"replay_seconds", r.seconds}};
+    f.insert(f.end(), numbers.begin(), numbers.end());
+  }
+}
+
+/// The node controls of a vector of them as columns.
+template <class Vec>
+Eigen::MatrixXd control_columns(const std::vector<Vec>& controls) {
+  Eigen::MatrixXd u(Vec::RowsAtCompileTime, static_cast<Eigen::Index>(controls.size()));
+  for (std::size_t j = 0; j < controls.size(); ++j) u.col(static_cast<Eigen::Index>(j)) = controls[j];
+  return u;
+}
+
 /// The direct method on the scene's problem (experiments/ocp/ocp_direct_command.cpp); the same files,
 /// exit statuses and errors as run_ocp_command.
 int run_direct(const Scene& scene, const OcpCommand& cmd, const std::string& command_line, std::ostream& out,
                std::ostream& err);
+
+/// --solver collocation on the scene's problem (experiments/ocp/ocp_collocation_command.cpp): the
+/// continuous transcription of lgvi/ocp/collocation.hpp, whatever the scene's ocp.method; the
+/// same files (history: one row per IPOPT iteration), exit statuses and errors as run_ocp_command.
+int run_collocation(const Scene& scene, const OcpCommand& cmd, const std::string& command_line, std::ostream& out,
+                    std::ostream& err);
 
 /// --h and --steps exclude each other; each given one, and --t-final, in its range (--steps:
 /// kOcpSteps, the [ocp] scenes' step cap). Throws InvalidInput naming the option.

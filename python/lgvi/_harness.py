@@ -15,7 +15,8 @@ def solve_ocp(problem: "Union[str, lgvi.Scene]", *, W: "Optional[numpy.typing.Ar
               knots: "Optional[int]" = None, spline: "Optional[str]" = None, gradients: "Optional[str]" = None,
               starts: "Optional[int]" = None, seed: "Optional[int]" = None, first_start: "Optional[int]" = None,
               hessian: "Optional[str]" = None, state_guess: "Optional[str]" = None,
-              shooting_interval: "Optional[int]" = None, out: "Optional[os.PathLike]" = None) -> "dict":
+              shooting_interval: "Optional[int]" = None, intervals: "Optional[int]" = None,
+              out: "Optional[os.PathLike]" = None) -> "dict":
     """Optimal control, as `lgvi-testbed ocp PROBLEM`.
 
     problem: the paper's 'pendulum', 'dumbbell' (indirect shooting), 'cart-pendulum',
@@ -30,8 +31,13 @@ def solve_ocp(problem: "Union[str, lgvi.Scene]", *, W: "Optional[numpy.typing.Ar
     naming the argument): indirect: max_iterations, decomposition, merit, globalization,
     lm_damping, nonmonotone_memory, guess (lambda_0), sphere_radius (dumbbell); direct: solver
     ('slsqp', 'ipopt', 'ddp'), max_iterations (evaluations), tolerance, knots, spline, gradients,
-    starts, seed, first_start, hessian, state_guess, shooting_interval. out: keep the files in
-    this directory (default: a temporary one, removed).
+    starts, seed, first_start, hessian, state_guess, shooting_interval; solver='collocation'
+    (continuous Hermite-Simpson on the quaternion model, the attitude transfers): intervals,
+    tolerance, max_iterations. out: keep the files in this directory (default: a temporary one,
+    removed).
+
+    Every summary carries the replayed yardstick: the answer's controls replayed on the
+    continuous quaternion model (replayed_cost, replayed_violation, replay_status).
 
     Returns {summary (the JSON summary; summary['W'] the weight as an (n_u, n_u) array),
     trajectory, history [, knots] (column dicts: {columns, t, R, Omega, ...}), converged, out}.

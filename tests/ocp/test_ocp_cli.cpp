@@ -194,3 +194,51 @@ TEST(OcpCli, DdpWritesHistoryTrajectoryAndSummary) {
 
 }  // namespace
 }  // namespace lgvi::test
+
+namespace lgvi::test {
+namespace {
+
+TEST(OcpCli, EverySummaryCarriesTheReplayedYardstick) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"ocp", "pendulum", "--steps", "100", "--out", "."});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string json = read_text(dir.work() / "ocp-pendulum-summary.json");
+  for (const char* key : {"\"replay_interpolation\": \"zero-order-hold\"", "\"replayed_cost\": 7.", "\"replayed_violation\"",
+                          "\"replay_status\": \"ok\"", "\"replayed_quaternion_drift\""}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key << " not in " << json;
+  }
+}
+
+TEST(OcpCli, CollocationWritesItsFilesAndRefusesTheDiscreteOptions) {
+  TempDir dir;
+  const CliResult r = run_testbed(dir, {"ocp", "pendulum", "--solver", "collocation", "--intervals", "20", "--out", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fs::path out = dir.work() / "out";
+  const std::string json = read_text(out / "ocp-pendulum-summary.json");
+  for (const char* key : {"\"solver\": \"collocation\"", "\"status\": \"converged\"", "\"intervals\": 20",
+                          "\"max_defect\"", "\"quaternion_drift\"", "\"replay_interpolation\": \"piecewise-quadratic\"",
+                          "\"replay_status\": \"ok\""}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key << " not in " << json;
+  }
+  std::size_t data = 0;
+  for (const std::string& line : lines_of(read_text(out / "ocp-pendulum-trajectory.csv"))) {
+    if (!line.empty() && line[0] != '#' && line.rfind("t,", 0) != 0) ++data;
+  }
+  EXPECT_EQ(data, 21u);  // nodes 0..20
+  for (const auto& [args, option] :
+       {std::pair{std::vector<std::string>{"ocp", "pendulum", "--solver", "collocation", "--knots", "5", "--out", "."},
+                  "--knots"},
+        std::pair{std::vector<std::string>{"ocp", "pendulum", "--solver", "collocation", "--intervals", "1", "--out", "."},
+                  "--intervals"},
+        std::pair{std::vector<std::string>{"ocp", "pendulum", "--intervals", "10", "--out", "."}, "--intervals"},
+        std::pair{std::vector<std::string>{"ocp", "cart-pendulum", "--solver", "collocation", "--out", "."}, "--solver"}}) {
+    TempDir bad;
+    const CliResult e = run_testbed(bad, args);
+    EXPECT_EQ(e.exit_code, 1) << e.err;
+    EXPECT_EQ(e.err.rfind(std::string("error: ") + option, 0), 0u) << e.err;
+    EXPECT_TRUE(bad.work_entries().empty());
+  }
+}
+
+}  // namespace
+}  // namespace lgvi::test
