@@ -28,6 +28,7 @@ constexpr std::string_view kTempPrefix = ".lgvi-tmp-";
 struct LiveTemporaries {
   std::mutex mutex;
   std::set<fs::path> paths;
+  bool closed = false;  ///< remove_live_temporaries ran: the process is ending
 };
 LiveTemporaries& live_temporaries() {
   static LiveTemporaries* live = new LiveTemporaries;  // never destroyed: used until _Exit
@@ -66,6 +67,9 @@ bool names_a_descriptor_or_device(const fs::path& target) {
 void register_live(const fs::path& p) {
   LiveTemporaries& live = live_temporaries();
   const std::lock_guard lock(live.mutex);
+  // After the cleanup of an ending process no temporary may start: a worker thread still running
+  // a case would create one that nobody removes (seen: a suite interrupted by SIGTERM left one).
+  if (live.closed) throw OutputError(p.parent_path().string() + ": the process is ending: no new temporary file");
   live.paths.insert(p);
 }
 
@@ -164,6 +168,7 @@ std::size_t remove_live_temporaries() {
     removed += fs::remove(p, ec) ? 1 : 0;
   }
   live.paths.clear();
+  live.closed = true;
   return removed;
 }
 

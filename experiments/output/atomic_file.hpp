@@ -76,7 +76,9 @@ class TempPath {
 };
 
 /// Removes every temporary of this process not yet committed or removed (a run interrupted by a
-/// signal, about to _Exit: destructors will not run). Best effort; returns how many were removed.
+/// signal, about to _Exit: destructors will not run), and refuses every later one (TempPath throws
+/// OutputError): another thread would otherwise create one between the removal and the exit.
+/// Best effort; returns how many were removed.
 std::size_t remove_live_temporaries();
 
 /// Removes, in `dir` and below, the temporaries ".lgvi-tmp-<pid>-..." of processes that no longer

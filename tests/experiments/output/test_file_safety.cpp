@@ -5,6 +5,7 @@
 // checks that the victim is untouched and the outputs are right.
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <regex>
@@ -36,7 +37,7 @@ struct Victim {
 
 /// Links to `victim` at every name the temporaries of this process had while they were
 /// predictable, ".lgvi-tmp-<pid>-<n><ext>" (a per-process counter n), for n < 40 (the test below
-/// makes 8 temporaries; ctest runs each test in a process of its own) and each extension of the
+/// makes 8 temporaries; the names are random now, the links sit where the old counter put them) and each extension of the
 /// files it writes (a symlink costs ~3 ms on the CI disk: 240 of them, not thousands).
 void plant_predictable_links(const fs::path& dir, const fs::path& victim) {
   for (const char* ext : {".csv", ".json", ".png", ".log", ".curves", ".dat"}) {
@@ -54,6 +55,36 @@ std::vector<std::string> temporaries_left(const fs::path& dir) {
     if (name.rfind(".lgvi-tmp-", 0) == 0 && !e.is_symlink()) left.push_back(name);
   }
   return left;
+}
+
+TEST(FileSafety, NoTemporaryStartsAfterTheEndingProcessRemovedItsOwn) {
+  // An interrupted suite removes its live temporaries and exits; a worker still in a case must not
+  // create one in between (it did: SuiteResume found a .lgvi-tmp- file after a clean SIGTERM).
+  // The removal closes the registry for good, so it runs in a child process.
+  TempDir dir;
+  const fs::path target = dir.work() / "a.csv";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    int code = 0;
+    {
+      TempPath live(target);
+      if (remove_live_temporaries() != 1 || fs::exists(live.path())) code = 1;
+    }
+    try {
+      const TempPath late(target);
+      code = 2;  // created after the cleanup
+    } catch (const OutputError& e) {
+      if (std::string(e.what()).find("the process is ending") == std::string::npos) code = 3;
+    }
+    std::_Exit(code);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "1: the live temporary was not removed; 2: a temporary was created after "
+                                       "the cleanup; 3: another error";
+  EXPECT_TRUE(temporaries_left(dir.work()).empty());
 }
 
 TEST(FileSafety, TemporaryNamesAreUnpredictableAndCreatedExclusively) {
