@@ -4,6 +4,8 @@
 #include <IpIpoptApplication.hpp>
 #include <IpTNLP.hpp>
 
+#include "lgvi/ocp/direct_ipopt.hpp"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -132,22 +134,6 @@ void require_rotation(const Mat3& R, const char* field) {
   if (!so3::is_rotation(R, 1e-10)) throw InvalidInput(field, "is not a rotation matrix (R^T R != I or det R != 1)");
 }
 
-std::string ipopt_name(Ipopt::ApplicationReturnStatus s) {
-  using namespace Ipopt;
-  switch (s) {
-    case Solve_Succeeded: return "Solve_Succeeded";
-    case Solved_To_Acceptable_Level: return "Solved_To_Acceptable_Level";
-    case Infeasible_Problem_Detected: return "Infeasible_Problem_Detected";
-    case Search_Direction_Becomes_Too_Small: return "Search_Direction_Becomes_Too_Small";
-    case Diverging_Iterates: return "Diverging_Iterates";
-    case User_Requested_Stop: return "User_Requested_Stop";
-    case Maximum_Iterations_Exceeded: return "Maximum_Iterations_Exceeded";
-    case Restoration_Failed: return "Restoration_Failed";
-    case Error_In_Step_Computation: return "Error_In_Step_Computation";
-    case Invalid_Number_Detected: return "Invalid_Number_Detected";
-    default: return "IPOPT_STATUS_" + std::to_string(static_cast<int>(s));
-  }
-}
 
 /// The transcription as IPOPT's TNLP (collocation.hpp: variables, rows, Jacobian).
 template <class S, class Moments>
@@ -442,7 +428,7 @@ CollocationResult solve(const S& system, const Moments& moments, const TransferP
     return out;
   }
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
-  S_.ipopt_status = ipopt_name(status);
+  S_.ipopt_status = detail::ipopt_name(status);
   S_.iterations = static_cast<int>(out.history_cost.size()) - 1;
   const std::vector<double>& x = nlp->solution();
   if (static_cast<int>(x.size()) == nlp->n()) {

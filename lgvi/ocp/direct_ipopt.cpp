@@ -13,9 +13,8 @@
 
 namespace lgvi::ocp::detail {
 
-namespace {
-
-std::string ipopt_name(Ipopt::ApplicationReturnStatus s) {
+std::string ipopt_name(int status) {
+  const auto s = static_cast<Ipopt::ApplicationReturnStatus>(status);
   using namespace Ipopt;
   switch (s) {
     case Solve_Succeeded: return "Solve_Succeeded";
@@ -36,6 +35,9 @@ std::string ipopt_name(Ipopt::ApplicationReturnStatus s) {
     default: return "IPOPT_STATUS_" + std::to_string(static_cast<int>(s));
   }
 }
+
+namespace {
+
 
 // The TNLP: IPOPT asks for f, grad f, g and the Jacobian at the same point in separate calls;
 // one evaluate_shooting serves them all (cached by the point; gradients added on demand along the

@@ -12,6 +12,10 @@
 
 namespace lgvi::ocp::detail {
 
+/// IPOPT's return status (Ipopt::ApplicationReturnStatus) by name, "Solve_Succeeded"; the
+/// multiple shooting's and the collocation's summaries both use it.
+std::string ipopt_name(int status);
+
 struct IpoptOutcome {
   std::string code;              ///< IPOPT's ApplicationReturnStatus by name, e.g. "Solve_Succeeded"
   bool success = false;          ///< Solve_Succeeded or Solved_To_Acceptable_Level
