@@ -270,22 +270,23 @@ class AttitudeMechanicsWithMoment {
   Dependence depends_;
 };
 
-/// The dumbbell on SE(3): x, v inertial, w = (Omega, v),
+/// A rigid body on SE(3) (the dumbbell, the potential body on SE(3)): x, v inertial, w = (Omega, v),
 ///     Omega' = J^{-1} (J Omega x Omega + M(R, x) + u^m(t)),   v' = (f(R, x) + u^f(t)) / m,
-/// with f and M from DumbbellSpacecraft::forces (one evaluation gives both).
-class DumbbellMechanics {
+/// with f and M from the system's forces(R, x) (one evaluation gives both).
+template <RigidBodySystem S>
+class RigidBodyMechanics {
  public:
   static constexpr int bodies = 1;
   static constexpr int positions = 3;
   static constexpr int velocities = 6;
   static constexpr bool rates_are_velocities = true;
-  using System = DumbbellSpacecraft;
-  using Control = DumbbellSpacecraft::Control;
+  using System = S;
+  using Control = Wrench;
   using Config = Configuration<1, 3>;
   using Rate = Rates<1, 3>;
   using Velocity = Vector<6>;
 
-  explicit DumbbellMechanics(const DumbbellSpacecraft& system, std::function<Control(double)> control = {})
+  explicit RigidBodyMechanics(const S& system, std::function<Control(double)> control = {})
       : system_(system), control_(std::move(control)) {}
 
   void rates(const Config& /*c*/, const Velocity& w, Rate& r) const {
@@ -294,7 +295,7 @@ class DumbbellMechanics {
   }
 
   Velocity acceleration(double t, const Config& c, const Velocity& w) const {
-    const DumbbellSpacecraft::Forces f = system_.forces(c.R[0], c.x);
+    const Wrench f = system_.forces(c.R[0], c.x);
     const Mat3& J = system_.inertia.J;
     const Vec3 Omega = w.head<3>();
     Vec3 torque = (J * Omega).cross(Omega) + f.moment;
@@ -325,7 +326,7 @@ class DumbbellMechanics {
   }
   /// (M(R, x) + u^m(t), f(R, x) + u^f(t)) (SeparableMechanics).
   Velocity generalized_force(double t, const Config& c) const {
-    const DumbbellSpacecraft::Forces f = system_.forces(c.R[0], c.x);
+    const Wrench f = system_.forces(c.R[0], c.x);
     Velocity F;
     F << f.moment, f.force;
     if (control_) {
@@ -337,11 +338,11 @@ class DumbbellMechanics {
   }
   bool separable() const { return true; }
   bool time_dependent() const { return static_cast<bool>(control_); }
-  const DumbbellSpacecraft& system() const { return system_; }
+  const S& system() const { return system_; }
 
   /// The first integral the projection of cvode-bdf-projected keeps (baselines/projection.hpp):
-  /// the energy DumbbellSpacecraft::energy(R, x, Omega, v), when uncontrolled. Only the energy:
-  /// the total angular momentum x x m v + R J Omega is conserved too, but the projection is
+  /// the energy S::energy(R, x, Omega, v), when uncontrolled. Only the energy: an angular momentum
+  /// (S::angular_momentum) is conserved too, but the projection is
   /// scoped to the energy here (its 3 components would make 5 constraints on the 13 states).
   static constexpr int max_invariants = 1;
   int invariants(const Config& c, const Velocity& w, double* g) const {
@@ -352,9 +353,12 @@ class DumbbellMechanics {
   std::string invariant_names() const { return control_ ? "no energy (controlled)" : "E = E_0"; }
 
  private:
-  const DumbbellSpacecraft& system_;
+  const S& system_;
   std::function<Control(double)> control_;
 };
+
+/// The dumbbell spacecraft's mechanics (section 3.1).
+using DumbbellMechanics = RigidBodyMechanics<DumbbellSpacecraft>;
 
 /// The 3D pendulum on a cart, SO(3) x R^2, in momentum form w = (Pi, p): the mass matrix of
 /// eq. 37 is factored (Cholesky, CartPendulum::velocities) at every evaluation of the rates and
@@ -468,7 +472,7 @@ class ConnectedBodiesMechanics {
 
 static_assert(Mechanics<CartPendulumMechanics>);
 static_assert(Mechanics<ConnectedBodiesMechanics>);
-static_assert(SeparableMechanics<DumbbellMechanics> && !SeparableMechanics<CartPendulumMechanics> &&
+static_assert(SeparableMechanics<DumbbellMechanics> && SeparableMechanics<RigidBodyMechanics<PotentialBodySE3>> && !SeparableMechanics<CartPendulumMechanics> &&
               !SeparableMechanics<ConnectedBodiesMechanics>);
 
 /// w' at (t, c, w) given r = m.rates(c, w), the same as m.acceleration(t, c, w) to the bit:

@@ -24,25 +24,6 @@ LgviForm parse_lgvi_form(const std::string& name) {
   throw InvalidInput("form", "must be 'symmetric' or 'printed' (got '" + name + "')");
 }
 
-DumbbellLgvi::State DumbbellLgvi::make_state(const Mat3& R, const Vec3& x, const Vec3& Omega,
-                                             const Vec3& v) const {
-  require_finite(R, "R0");
-  if (!so3::is_rotation(R, 1e-10)) throw InvalidInput("R0", "is not a rotation matrix (R^T R != I or det R != 1)");
-  require_finite(x, "x0");
-  require_finite(Omega, "Omega0");
-  require_finite(v, "v0");
-  if (x.norm() <= system_.rho.norm()) {
-    throw InvalidInput("x0", "places a sphere at or inside the central body's centre (|x| <= |rho|)");
-  }
-  State s;
-  s.R = R;
-  s.x = x;
-  s.Pi = system_.inertia.J * Omega;
-  s.v = v;
-  s.forces = system_.forces(R, x);
-  return s;
-}
-
 const char* to_string(IntegrationStatus s) {
   switch (s) {
     case IntegrationStatus::Completed: return "completed";

@@ -24,6 +24,7 @@
 #include "lgvi/rotation_update.hpp"
 #include "lgvi/so3.hpp"
 #include "lgvi/systems/dumbbell.hpp"
+#include "lgvi/systems/potential_body_se3.hpp"
 #include "lgvi/systems/system.hpp"
 #include "lgvi/types.hpp"
 
@@ -52,6 +53,21 @@ concept AttitudeSystem = System<S> && requires(const S& s, const Mat3& R, const 
   { S::has_potential } -> std::convertible_to<bool>;
 };
 
+/// A single rigid body whose configuration is (R, x) in SE(3), with a potential U(R, x) whose
+/// wrench -dU/dx, M (eq. 13) one call of forces(R, x) gives and the controls u^f, u^m: the
+/// dumbbell, the potential body on SE(3). A system may check a configuration it cannot take
+/// (check_configuration(R, x), throwing InvalidInput("x0", ...)).
+template <class S>
+concept RigidBodySystem = System<S> && std::same_as<typename S::Control, Wrench> &&
+                          requires(const S& s, const Mat3& R, const Vec3& x, const Vec3& w) {
+                            { s.mass } -> std::convertible_to<double>;
+                            { s.inertia } -> std::convertible_to<Inertia>;
+                            { s.forces(R, x) } -> std::same_as<Wrench>;
+                            { s.potential(R, x) } -> std::convertible_to<double>;
+                            { s.energy(R, x, w, w) } -> std::convertible_to<double>;
+                            { s.angular_momentum(R, x, w, w) } -> std::convertible_to<Vec3>;
+                          };
+
 /// State on T*SO(3): attitude, body angular momentum Pi = J Omega, and the cached moment M(R).
 struct AttitudeState {
   Mat3 R = Mat3::Identity();
@@ -66,7 +82,7 @@ struct RigidBodyState {
   Vec3 x = Vec3::Zero();
   Vec3 Pi = Vec3::Zero();
   Vec3 v = Vec3::Zero();
-  DumbbellSpacecraft::Forces forces;
+  Wrench forces;  ///< -dU/dx and M at (R, x)
 };
 
 /// The first part of the state with a non-finite entry ("R", "Pi", ...), or nullptr when every
@@ -143,19 +159,35 @@ class AttitudeLgvi {
   RotationUpdateSolver solver_;
 };
 
-/// The LGVI flow map of the dumbbell spacecraft on SE(3) (eqs. 7-12 and the symmetric form).
-class DumbbellLgvi {
+/// The LGVI flow map of a rigid body on SE(3) (eqs. 7-12 and 21-23 for the dumbbell, and the
+/// symmetric form). Holds the system by reference; `step` allocates nothing.
+template <RigidBodySystem S>
+class RigidBodyLgvi {
  public:
-  using System = DumbbellSpacecraft;
+  using System = S;
   using State = RigidBodyState;
-  using Control = DumbbellSpacecraft::Control;
+  using Control = Wrench;
 
-  explicit DumbbellLgvi(const DumbbellSpacecraft& system, LgviForm form = LgviForm::Symmetric,
-                        RotationUpdateOptions options = {})
+  explicit RigidBodyLgvi(const S& system, LgviForm form = LgviForm::Symmetric, RotationUpdateOptions options = {})
       : system_(system), form_(form), solver_(system.inertia, options) {}
 
-  /// Validates R orthonormal, all vectors finite, x away from the central body (|x| > |rho|).
-  State make_state(const Mat3& R, const Vec3& x, const Vec3& Omega, const Vec3& v) const;
+  /// Validates R orthonormal (1e-10), all vectors finite and the system's own check of the
+  /// configuration (the dumbbell: |x| > |rho|); throws InvalidInput("R0"/"x0"/"Omega0"/"v0", ...).
+  State make_state(const Mat3& R, const Vec3& x, const Vec3& Omega, const Vec3& v) const {
+    require_finite(R, "R0");
+    if (!so3::is_rotation(R, 1e-10)) throw InvalidInput("R0", "is not a rotation matrix (R^T R != I or det R != 1)");
+    require_finite(x, "x0");
+    require_finite(Omega, "Omega0");
+    require_finite(v, "v0");
+    if constexpr (requires { system_.check_configuration(R, x); }) system_.check_configuration(R, x);
+    State s;
+    s.R = R;
+    s.x = x;
+    s.Pi = system_.inertia.J * Omega;
+    s.v = v;
+    s.forces = system_.forces(R, x);
+    return s;
+  }
   Vec3 omega(const State& s) const { return system_.inertia.J_inverse * s.Pi; }
 
   LGVI_FLATTEN RotationUpdateSummary step(const State& in, double h, const Control& u_k,
@@ -178,7 +210,7 @@ class DumbbellLgvi {
     if (!summary.converged()) return summary;
     const Mat3 R1 = in.R * F;
     const Vec3 x1 = in.x + (h / m) * p;
-    const DumbbellSpacecraft::Forces f1 = system_.forces(R1, x1);
+    const Wrench f1 = system_.forces(R1, x1);
     out.Pi = F.transpose() * kick + c1 * (f1.moment + u_k1.moment);
     out.v = (p + c1 * (f1.force + u_k1.force)) / m;
     out.R = R1;
@@ -187,17 +219,20 @@ class DumbbellLgvi {
     return summary;
   }
 
-  const DumbbellSpacecraft& system() const { return system_; }
+  const S& system() const { return system_; }
   LgviForm form() const { return form_; }
   const RotationUpdateSolver& solver() const { return solver_; }
   static constexpr int potential_evaluations_per_step = 1;
 
  private:
-  const DumbbellSpacecraft& system_;
+  const S& system_;
   LgviForm form_;
   RotationUpdateSolver solver_;
 };
 
-static_assert(FlowMap<DumbbellLgvi>);
+/// The dumbbell spacecraft's LGVI (section 3.1).
+using DumbbellLgvi = RigidBodyLgvi<DumbbellSpacecraft>;
+
+static_assert(FlowMap<DumbbellLgvi> && FlowMap<RigidBodyLgvi<PotentialBodySE3>>);
 
 }  // namespace lgvi

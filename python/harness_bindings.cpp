@@ -350,7 +350,7 @@ py::array_t<double> matrix_array(const Mat3& R) {
 /// Python, so every method stops at once. Held by shared_ptr: copies of the scene (made with the
 /// GIL released) copy no Python reference; the last owner takes the GIL to release them.
 struct CallbackRecord {
-  py::object potential, moment, torque;
+  py::object potential, moment, torque, force;
   std::string failure;  ///< "moment(R) returned array([1., 2.]) (expected 3 floats)"; empty: none
   py::object cause;     ///< the exception a callable raised, if any
   long long calls = 0;  ///< calls of either callable, over the record's life
@@ -359,6 +359,7 @@ struct CallbackRecord {
     potential = py::object();
     moment = py::object();
     torque = py::object();
+    force = py::object();
     cause = py::object();
   }
 };
@@ -401,19 +402,27 @@ std::optional<Vec3> vector_of(const py::object& v) {
   return Vec3(a.at(0), a.at(1), a.at(2));
 }
 
+/// The float a potential returned (a Python or numpy real scalar: numpy's are float subclasses
+/// or 0-d), or nullopt.
+std::optional<Scalar1> scalar_of(const py::object& v) {
+  const auto a = py::array_t<double, py::array::forcecast>::ensure(v);
+  if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v) || !a || a.ndim() != 0) return std::nullopt;
+  return Scalar1::Constant(*a.data());
+}
+
+/// A (3,) array of v.
+py::array_t<double> vector_array(const Vec3& v) {
+  py::array_t<double> a(3);
+  for (int i = 0; i < 3; ++i) a.mutable_at(i) = v(i);
+  return a;
+}
+
 /// The user potential's U(R) (a std::function target that carries the record).
 struct UserEnergy {
   std::shared_ptr<CallbackRecord> record;
   double operator()(const Mat3& R) const {
     return call_back<Scalar1>(*record, "potential(R)", "a float", [&] { return record->potential(matrix_array(R)); },
-                              [](const py::object& v) -> std::optional<Scalar1> {
-                                // A Python or numpy real scalar (numpy's are float subclasses or 0-d).
-                                const auto a = py::array_t<double, py::array::forcecast>::ensure(v);
-                                if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v) || !a || a.ndim() != 0) {
-                                  return std::nullopt;
-                                }
-                                return Scalar1::Constant(*a.data());
-                              })(0);
+                              scalar_of)(0);
   }
 };
 
@@ -431,64 +440,121 @@ struct UserTorque {
   std::shared_ptr<CallbackRecord> record;
   Vec3 operator()(double t, const Mat3& R, const Vec3& Omega) const {
     return call_back<Vec3>(*record, "torque(t, R, Omega)", "3 floats",
-                           [&] {
-                             py::array_t<double> omega(3);
-                             for (int i = 0; i < 3; ++i) omega.mutable_at(i) = Omega(i);
-                             return record->torque(t, matrix_array(R), omega);
-                           },
+                           [&] { return record->torque(t, matrix_array(R), vector_array(Omega)); },
                            vector_of);
+  }
+};
+
+/// A body with translation: U(R, x) (lgvi::UserPotentialSE3's energy).
+struct UserEnergySE3 {
+  std::shared_ptr<CallbackRecord> record;
+  double operator()(const Mat3& R, const Vec3& x) const {
+    return call_back<Scalar1>(*record, "potential(R, x)", "a float",
+                              [&] { return record->potential(matrix_array(R), vector_array(x)); }, scalar_of)(0);
+  }
+};
+
+/// A body with translation: its wrench, the force f(R, x) (inertial) and the moment M(R, x).
+struct UserWrenchSE3 {
+  std::shared_ptr<CallbackRecord> record;
+  lgvi::Wrench operator()(const Mat3& R, const Vec3& x) const {
+    lgvi::Wrench w;
+    w.force = call_back<Vec3>(*record, "force(R, x)", "3 floats",
+                              [&] { return record->force(matrix_array(R), vector_array(x)); }, vector_of);
+    w.moment = call_back<Vec3>(*record, "moment(R, x)", "3 floats",
+                               [&] { return record->moment(matrix_array(R), vector_array(x)); }, vector_of);
+    return w;
   }
 };
 
 /// The record of a scene made by potential_scene, else null.
 std::shared_ptr<CallbackRecord> user_record(const ex::Scene& scene) {
-  const auto* body = std::get_if<ex::PotentialBodyModel>(&scene.model);
-  if (body == nullptr) return nullptr;
-  const auto* user = std::get_if<lgvi::UserPotential>(&body->system.term);
-  if (user == nullptr) return nullptr;
-  const auto* energy = user->energy.target<UserEnergy>();
-  return energy != nullptr ? energy->record : nullptr;
+  if (const auto* body = std::get_if<ex::PotentialBodyModel>(&scene.model)) {
+    const auto* user = std::get_if<lgvi::UserPotential>(&body->system.term);
+    const auto* energy = user != nullptr ? user->energy.target<UserEnergy>() : nullptr;
+    return energy != nullptr ? energy->record : nullptr;
+  }
+  if (const auto* body = std::get_if<ex::PotentialBodySE3Model>(&scene.model)) {
+    const auto* user = std::get_if<lgvi::UserPotentialSE3>(&body->system.term);
+    const auto* energy = user != nullptr ? user->energy.target<UserEnergySE3>() : nullptr;
+    return energy != nullptr ? energy->record : nullptr;
+  }
+  return nullptr;
 }
 
-/// A scene of the system potential-body whose potential is the Python callables potential(R) ->
-/// float and moment(R) -> (3,) and, optionally, the torque u(t, R, Omega) -> (3,); each checked once at the
-/// initial state.
+/// A scene whose potential is Python callables: without mass and force, of the system
+/// potential-body, potential(R) -> float, moment(R) -> (3,) and, optionally, the torque
+/// u(t, R, Omega) -> (3,); with mass and force, of the system potential-body-se3, potential(R, x),
+/// moment(R, x) and force(R, x). Each callable is checked once at the initial state.
 ex::Scene potential_scene(const py::object& inertia, const py::object& potential, const py::object& moment,
                           const py::dict& initial, double h, double t_final, const std::string& form,
                           std::int64_t output_every, const py::object& torque, const std::optional<py::dict>& control,
-                          const std::string& name, const std::optional<std::string>& description) {
-  if (!PyCallable_Check(potential.ptr())) throw py::type_error("potential: expected a callable U(R) -> float");
-  if (!PyCallable_Check(moment.ptr())) throw py::type_error("moment: expected a callable M(R) -> (3,) array");
+                          const std::string& name, const std::optional<std::string>& description,
+                          const py::object& mass, const py::object& force) {
+  const bool translates = !mass.is_none() || !force.is_none();
+  const char* args = translates ? "(R, x)" : "(R)";
+  if (!PyCallable_Check(potential.ptr())) throw py::type_error(std::string("potential: expected a callable U") + args + " -> float");
+  if (!PyCallable_Check(moment.ptr())) throw py::type_error(std::string("moment: expected a callable M") + args + " -> (3,) array");
+  if (translates) {
+    if (mass.is_none()) throw py::value_error("mass: is required with force (a body with translation: mass [kg] and force(R, x))");
+    if (force.is_none() || !PyCallable_Check(force.ptr())) {
+      throw py::type_error("force: expected a callable f(R, x) -> (3,) array (inertial frame) with mass");
+    }
+    if (!torque.is_none()) {
+      throw py::value_error(
+          "torque: a feedback law u(t, R, Omega) is for the body without translation; with mass and force give "
+          "control={'force': {...}, 'moment': {...}} (the dumbbell's time-dependent controls)");
+    }
+  }
   if (!torque.is_none() && !PyCallable_Check(torque.ptr())) {
     throw py::type_error("torque: expected a callable u(t, R, Omega) -> (3,) array, or None");
   }
   if (!torque.is_none() && control) throw py::value_error("torque: give torque or control, not both");
-  // A placeholder (a dipole of zero moment) gives the scene its inertia, initial state, horizon
-  // and control, read and validated as a scene file's; the callables then replace it.
+  // A placeholder (a zero dipole or zero gravity) gives the scene its inertia (and mass), initial
+  // state, horizon and control, read and validated as a scene file's; the callables then replace it.
   py::dict parameters;
   parameters["inertia"] = inertia;
-  parameters["potential"] = "magnetic-dipole";
-  parameters["dipole"] = py::make_tuple(0.0, 0.0, 0.0);
-  parameters["field"] = py::make_tuple(0.0, 0.0, 0.0);
   py::dict start = initial;
-  if (start.empty()) start["Omega"] = py::make_tuple(0.0, 0.0, 0.0);  // R = I, at rest
-  ex::Scene scene = make_scene("potential-body", parameters, start, h, t_final, form, output_every, control, name,
+  if (translates) {
+    parameters["mass"] = mass;
+    parameters["potential"] = "uniform-gravity";
+    parameters["gravity"] = py::make_tuple(0.0, 0.0, 0.0);
+    if (!start.contains("Omega") && !start.contains("omega_space")) start["Omega"] = py::make_tuple(0.0, 0.0, 0.0);
+    if (!start.contains("x")) start["x"] = py::make_tuple(0.0, 0.0, 0.0);
+    if (!start.contains("v")) start["v"] = py::make_tuple(0.0, 0.0, 0.0);
+  } else {
+    parameters["potential"] = "magnetic-dipole";
+    parameters["dipole"] = py::make_tuple(0.0, 0.0, 0.0);
+    parameters["field"] = py::make_tuple(0.0, 0.0, 0.0);
+    if (start.empty()) start["Omega"] = py::make_tuple(0.0, 0.0, 0.0);  // R = I, at rest
+  }
+  ex::Scene scene = make_scene(translates ? "potential-body-se3" : "potential-body", parameters, start, h, t_final, form,
+                               output_every, control, name,
                                description ? description : std::optional<std::string>("a potential defined in Python"));
   auto record = std::make_shared<CallbackRecord>();
   record->potential = potential;
   record->moment = moment;
-  auto& body = std::get<ex::PotentialBodyModel>(scene.model);
-  body.system = lgvi::PotentialBody(body.system.inertia.J, lgvi::UserPotential{UserEnergy{record}, UserMoment{record}});
-  if (!torque.is_none()) {
-    record->torque = torque;
-    ex::AttitudeFeedback law;
-    law.law = UserTorque{record};
-    body.feedback = law;
+  if (translates) {
+    record->force = force;
+    auto& body = std::get<ex::PotentialBodySE3Model>(scene.model);
+    body.system = lgvi::PotentialBodySE3(body.system.mass, body.system.inertia.J,
+                                         lgvi::UserPotentialSE3{UserEnergySE3{record}, UserWrenchSE3{record}});
+    // The callables' answers at the initial state: a bad one is an error now, not mid-run.
+    (void)body.system.potential(body.initial.R, body.initial.x);
+    (void)body.system.forces(body.initial.R, body.initial.x);
+  } else {
+    auto& body = std::get<ex::PotentialBodyModel>(scene.model);
+    body.system = lgvi::PotentialBody(body.system.inertia.J, lgvi::UserPotential{UserEnergy{record}, UserMoment{record}});
+    if (!torque.is_none()) {
+      record->torque = torque;
+      ex::AttitudeFeedback law;
+      law.law = UserTorque{record};
+      body.feedback = law;
+    }
+    (void)body.system.potential(body.initial.R);
+    (void)body.system.moment(body.initial.R);
+    if (body.feedback) (void)body.feedback->moment(0.0, body.initial.R, body.initial.Omega);
   }
-  // The callables' answers at the initial state: a bad one is an error now, not mid-run.
-  (void)body.system.potential(body.initial.R);
-  (void)body.system.moment(body.initial.R);
-  if (body.feedback) (void)body.feedback->moment(0.0, body.initial.R, body.initial.Omega);
   if (!record->failure.empty()) {
     const std::string failure = record->failure;
     record->failure.clear();
@@ -921,15 +987,18 @@ void bind_harness(py::module_& m) {
   m.def("potential_scene", &potential_scene, py::arg("inertia"), py::arg("potential"), py::arg("moment"),
         py::arg("initial") = py::dict(), py::kw_only(), py::arg("h"), py::arg("t_final"), py::arg("form") = "symmetric",
         py::arg("output_every") = 1, py::arg("torque") = py::none(), py::arg("control") = py::none(),
-        py::arg("name") = "user-potential",
-        py::arg("description") = py::none(),
+        py::arg("name") = "user-potential", py::arg("description") = py::none(), py::arg("mass") = py::none(),
+        py::arg("force") = py::none(),
         "A scene of a rigid body in a potential defined in Python: inertia (3,) or (3, 3) [kg m^2]; "
         "potential(R) -> float, U [J]; moment(R) -> (3,), M(R) with hat(M) = dU/dR^T R - R^T dU/dR (eq. 13: "
         "minus the left-trivialized derivative, d/de U(R exp(hat(e))) = -M at e = 0); initial (default: R = I at "
-        "rest), control and the horizon as make_scene's ('potential-body' system). simulate(scene, method) runs it with every method "
-        "that takes potential-body. A callable that raises or returns a wrong shape or a non-finite value stops "
-        "the run, and simulate raises CallbackError naming it and the step; each is checked once at the initial "
-        "state here (ValueError).");
+        "rest), control and the horizon as make_scene's ('potential-body' system); torque(t, R, Omega) -> (3,), an "
+        "optional body-frame feedback moment. With mass [kg] and force, a body that also translates "
+        "('potential-body-se3' system): potential(R, x), moment(R, x) and force(R, x) -> (3,), f = -dU/dx "
+        "(inertial frame); initial adds x and v (default 0); control takes the sub-tables force and moment. "
+        "simulate(scene, method) runs it with every method that takes its system. A callable that raises or "
+        "returns a wrong shape or a non-finite value stops the run, and simulate raises CallbackError naming it "
+        "and the step; each is checked once at the initial state here (ValueError).");
   m.def("methods", &method_list,
         "Every registered method: name, family, order, stages, fixed_step, uses_jacobian, models, takes_form, "
         "legend, traits {symmetric, variational, stays_on_group, preserves_momentum_map, adaptive, "

@@ -291,7 +291,8 @@ void order_metrics(const ValidateOptions& options, std::vector<Metric>& out) {
 // an "energy error" would measure the control along a chaotic trajectory, not the integrator.
 
 constexpr const char* kConservationScenes[] = {"free-body", "pendulum", "dumbbell", "cart-pendulum",
-                                               "connected-bodies", "ill-conditioned-body", "magnetic-dipole"};
+                                               "connected-bodies", "ill-conditioned-body", "magnetic-dipole",
+                                               "anchored-spring"};
 
 /// How a round-off error grows over N steps, and so its floor.
 enum class ErrorGrowth {

@@ -217,7 +217,7 @@ MethodInfo baseline_method_info(const baselines::SolverInfo& solver) {
                   [&solver](const MethodOptions& options) { return make_baseline(solver, options); }};
   // The systems whose mechanics give their invariants (baselines/mechanics.hpp invariants());
   // the others are refused at run time (Ode::projection_refusal).
-  if (solver.projects_onto_invariants) info.systems = {"free-body", "pendulum", "dumbbell", "potential-body"};
+  if (solver.projects_onto_invariants) info.systems = {"free-body", "pendulum", "dumbbell", "potential-body", "potential-body-se3"};
   return info;
 }
 

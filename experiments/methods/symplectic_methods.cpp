@@ -19,7 +19,7 @@ namespace sp = baselines::splitting;
 /// The systems with a separable Hamiltonian, and why the others are not.
 constexpr const char* kSeparable =
     "needs a separable Hamiltonian, a single body with a constant mass matrix (free-body, pendulum, dumbbell, "
-    "potential-body); "
+    "potential-body, potential-body-se3); "
     "the cart-pendulum's and the connected bodies' mass matrices depend on the configuration";
 
 template <template <class> class FlowTemplate, const char* Description>
@@ -45,7 +45,7 @@ MethodInfo symplectic(const char* name, const char* legend) {
   info.symplectic = true;
   info.stays_on_group = true;
   info.preserves_momentum_map = true;
-  info.systems = {"free-body", "pendulum", "dumbbell", "potential-body"};
+  info.systems = {"free-body", "pendulum", "dumbbell", "potential-body", "potential-body-se3"};
   return mechanics_flow_method_info<Scheme>(std::move(info));
 }
 

@@ -4,7 +4,8 @@
 //
 // File format (every key below is the complete list; any other key is an error):
 //
-//   system = "free-body" | "pendulum" | "dumbbell" | "cart-pendulum" | "connected-bodies"
+//   system = "free-body" | "pendulum" | "dumbbell" | "cart-pendulum" | "connected-bodies" |
+//            "potential-body" | "potential-body-se3"
 //   description = "one line"                    (optional)
 //   [parameters], [initial], [control]   the system's own tables, read by its binding
 //                  (experiments/systems/<system>.hpp: check_keys, read), e.g.

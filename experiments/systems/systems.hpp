@@ -16,13 +16,15 @@
 #include "experiments/systems/free_body.hpp"
 #include "experiments/systems/pendulum.hpp"
 #include "experiments/systems/potential_body.hpp"
+#include "experiments/systems/potential_body_se3.hpp"
 
 namespace lgvi::experiments {
 
 using Model = std::variant<FreeBodyModel, PendulumModel, DumbbellModel, CartPendulumModel,
-                           ConnectedBodiesModel, PotentialBodyModel>;
+                           ConnectedBodiesModel, PotentialBodyModel, PotentialBodySE3Model>;
 
-/// "free-body", "pendulum", "dumbbell", "cart-pendulum", "connected-bodies" or "potential-body".
+/// "free-body", "pendulum", "dumbbell", "cart-pendulum", "connected-bodies", "potential-body" or
+/// "potential-body-se3".
 inline const char* system_name(const Model& model) {
   return std::visit([](const auto& m) { return std::decay_t<decltype(m)>::name; }, model);
 }

@@ -34,6 +34,12 @@ double DumbbellSpacecraft::circular_speed(double radius) const {
   return std::sqrt(mu) * radius / std::pow(radius * radius + l2, 0.75);
 }
 
+void DumbbellSpacecraft::check_configuration(const Mat3& /*R*/, const Vec3& x) const {
+  if (x.norm() <= rho.norm()) {
+    throw InvalidInput("x0", "places a sphere at or inside the central body's centre (|x| <= |rho|)");
+  }
+}
+
 double DumbbellSpacecraft::potential(const Mat3& R, const Vec3& x) const {
   const Vec3 r = R * rho;
   return -0.5 * mu * mass * (1.0 / (x + r).norm() + 1.0 / (x - r).norm());

@@ -27,15 +27,10 @@
 namespace lgvi {
 
 struct DumbbellSpacecraft {
-  struct Control {
-    Vec3 force = Vec3::Zero();   ///< u^f, inertial frame
-    Vec3 moment = Vec3::Zero();  ///< u^m, body frame
-  };
-  /// Derivatives of the potential at one configuration: one evaluation gives both.
-  struct Forces {
-    Vec3 force = Vec3::Zero();   ///< -dU/dx, inertial frame
-    Vec3 moment = Vec3::Zero();  ///< M of eq. 13, body frame
-  };
+  using Control = Wrench;  ///< u^f (inertial frame), u^m (body frame)
+  /// Derivatives of the potential at one configuration, -dU/dx and M of eq. 13: one evaluation
+  /// gives both.
+  using Forces = Wrench;
 
   double mass;
   double mu;
@@ -53,6 +48,10 @@ struct DumbbellSpacecraft {
   /// Circular-orbit speed of the mass centre at radius r with the rod perpendicular to the
   /// radius: sqrt(mu) r / (r^2 + l^2)^(3/4), which is (1 + l^2)^(-3/4) for r = mu = 1.
   double circular_speed(double radius) const;
+
+  /// Throws InvalidInput("x0", ...) when a sphere is at or inside the central body's centre
+  /// (|x| <= |rho|): the LGVI's make_state calls it.
+  void check_configuration(const Mat3& R, const Vec3& x) const;
 
   double potential(const Mat3& R, const Vec3& x) const;
   Forces forces(const Mat3& R, const Vec3& x) const;

@@ -4,6 +4,8 @@
 
 #include <concepts>
 
+#include "lgvi/types.hpp"
+
 namespace lgvi {
 
 /// A physical system: immutable parameters validated at construction (a copyable value), the
@@ -13,6 +15,14 @@ namespace lgvi {
 template <class S>
 concept System = std::copy_constructible<S> && std::copy_constructible<typename S::Control> && requires {
   &S::energy;
+};
+
+/// A force and a moment on a body moving in SE(3): the force on the mass centre in the inertial
+/// frame, the moment in the body frame (the frames of eqs. 13 and 21-23). The potential's
+/// derivatives (f = -dU/dx, M of eq. 13) and the controls (u^f, u^m) of the SE(3) systems.
+struct Wrench {
+  Vec3 force = Vec3::Zero();   ///< inertial frame
+  Vec3 moment = Vec3::Zero();  ///< body frame
 };
 
 }  // namespace lgvi

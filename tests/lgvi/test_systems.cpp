@@ -18,6 +18,7 @@
 #include "lgvi/systems/dumbbell.hpp"
 #include "lgvi/systems/pendulum.hpp"
 #include "lgvi/systems/potential_body.hpp"
+#include "lgvi/systems/potential_body_se3.hpp"
 #include "test_support.hpp"
 
 namespace lgvi {
@@ -438,6 +439,90 @@ TEST(PotentialBody, RejectsABadParameterNamingIt) {
   EXPECT_EQ(field_of([&] { PotentialBody(J, MagneticDipole{Vec3(NAN, 0, 0), Vec3::UnitZ()}); }), "dipole");
   EXPECT_EQ(field_of([&] { PotentialBody(J, MagneticDipole{Vec3::UnitZ(), Vec3(0, INFINITY, 0)}); }), "field");
   EXPECT_EQ(field_of([&] { PotentialBody(-J, MagneticDipole{Vec3::UnitZ(), Vec3::UnitZ()}); }), "inertia");
+}
+
+}  // namespace
+}  // namespace lgvi
+
+// --- a body on SE(3) in a parametric potential (lgvi/systems/potential_body_se3.hpp) ------------
+
+namespace lgvi {
+namespace {
+
+/// The anchored-spring.toml scene's body and a thrown body in uniform gravity.
+std::vector<PotentialBodySE3> potential_bodies_se3() {
+  const Mat3 J = Vec3(0.02, 0.03, 0.04).asDiagonal();
+  return {PotentialBodySE3(1.0, J, AnchoredSpring{20.0, Vec3(0.1, -0.2, 0.05), Vec3(0.0, 0.03, 0.1)}),
+          PotentialBodySE3(0.35, J, UniformGravity{Vec3(0.0, 0.0, -9.81)})};
+}
+
+class PotentialBodySE3At : public testing::TestWithParam<Configuration> {};
+
+// f = -dU/dx, M = -dU/d eta and eq. 13, by central differences, as the dumbbell's. Scale: the
+// potential's size at the configuration (|x| <= 2): the spring's k (|x| + |r| + |a|)^2
+// and gravity's m |g| |x|; the derivatives are bounded by the same, so the FD error is
+// kFdTolerance relative to it. |d| <= |x| + |r| + |a| = |x| + 0.104 + 0.229.
+TEST_P(PotentialBodySE3At, ForceAndMomentAreMinusTheGradientsOfThePotential) {
+  const Mat3& R = GetParam().R;
+  const Vec3& x = GetParam().x;
+  for (const PotentialBodySE3& body : potential_bodies_se3()) {
+    const double scale = std::holds_alternative<AnchoredSpring>(body.term)
+                             ? 20.0 * std::pow(x.norm() + 0.34, 2)
+                             : body.mass * 9.81 * std::max(1.0, x.norm());
+    Vec3 g;
+    for (int j = 0; j < 3; ++j) {
+      const Vec3 dx = kFdStep * Vec3::Unit(j);
+      g(j) = (body.potential(R, x + dx) - body.potential(R, x - dx)) / (2.0 * kFdStep);
+    }
+    const Wrench w = body.forces(R, x);
+    EXPECT_LE((w.force + g).norm(), kFdTolerance * scale) << body.term.index();
+    const auto U = [&](const Mat3& Q) { return body.potential(Q, x); };
+    EXPECT_LE((w.moment + fd_rotation_gradient(R, U)).norm(), kFdTolerance * scale) << body.term.index();
+    const Mat3 dU = fd_matrix_gradient(R, U);
+    EXPECT_LE((so3::hat(w.moment) - (dU.transpose() * R - R.transpose() * dU)).norm(), kFdTolerance * scale)
+        << body.term.index();
+  }
+}
+INSTANTIATE_TEST_SUITE_P(Configurations, PotentialBodySE3At, testing::ValuesIn(configurations()),
+                         [](const testing::TestParamInfo<Configuration>& i) { return i.param.name; });
+
+// The spring is a central force about its anchor: the torque of f, applied at the attachment
+// x + R r, about the anchor vanishes, (x + R r - a) x f = 0, so d/dt [(x - a) x m v + R J Omega] =
+// (x - a) x f + R M = (x - a) x f + (R r) x f = 0. Checked to round-off of |d| |f| (a few flops).
+TEST(PotentialBodySE3, SpringExertsNoTorqueAboutItsAnchor) {
+  const PotentialBodySE3 body = potential_bodies_se3()[0];
+  const AnchoredSpring& s = std::get<AnchoredSpring>(body.term);
+  for (const Configuration& c : configurations()) {
+    const Wrench w = body.forces(c.R, c.x);
+    const Vec3 about_anchor = (c.x - s.anchor).cross(w.force) + c.R * w.moment;
+    const Vec3 d = c.x + c.R * s.attachment - s.anchor;
+    EXPECT_LE(about_anchor.norm(), roundoff(d.norm() * w.force.norm(), 16)) << c.name;
+  }
+}
+
+TEST(PotentialBodySE3, RejectsABadParameterNamingIt) {
+  const Mat3 J = Vec3(0.02, 0.03, 0.04).asDiagonal();
+  const auto field_of = [](auto&& make) -> std::string {
+    try {
+      make();
+    } catch (const InvalidInput& e) {
+      return e.field();
+    }
+    return "(accepted)";
+  };
+  const Vec3 z = Vec3::Zero();
+  EXPECT_EQ(field_of([&] { PotentialBodySE3(0.0, J, UniformGravity{z}); }), "mass");
+  EXPECT_EQ(field_of([&] { PotentialBodySE3(NAN, J, UniformGravity{z}); }), "mass");
+  EXPECT_EQ(field_of([&] { PotentialBodySE3(1.0, -J, UniformGravity{z}); }), "inertia");
+  EXPECT_EQ(field_of([&] { PotentialBodySE3(1.0, J, UniformGravity{Vec3(0, NAN, 0)}); }), "gravity");
+  EXPECT_EQ(field_of([&] { PotentialBodySE3(1.0, J, AnchoredSpring{0.0, z, z}); }), "stiffness");
+  EXPECT_EQ(field_of([&] { PotentialBodySE3(1.0, J, AnchoredSpring{1.0, Vec3(INFINITY, 0, 0), z}); }), "anchor");
+  EXPECT_EQ(field_of([&] { PotentialBodySE3(1.0, J, AnchoredSpring{1.0, z, Vec3(0, 0, NAN)}); }), "attachment");
+  EXPECT_EQ(field_of([&] { PotentialBodySE3(1.0, J, UserPotentialSE3{}); }), "potential");
+  EXPECT_EQ(field_of([&] {
+              PotentialBodySE3(1.0, J, UserPotentialSE3{[](const Mat3&, const Vec3&) { return 0.0; }, {}});
+            }),
+            "moment");
 }
 
 }  // namespace

@@ -351,13 +351,13 @@ TEST(CliScenes, ListsEveryDefaultSceneWithItsDescription) {
   const CliResult r = run_testbed(dir, {"scenes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> lines = lines_of(r.out);
-  const std::vector<std::string> names = {"attitude-spring",     "cart-pendulum",       "connected-bodies",
+  const std::vector<std::string> names = {"anchored-spring",     "attitude-spring",     "cart-pendulum",       "connected-bodies",
                                           "connected-bodies-controlled",                 "detest-b5",
                                           "dumbbell",            "free-body",            "hlw-rigid-body",
                                           "lagrange-top",        "magnetic-dipole",      "manifold-rigid-body",  "ocp-cart-pendulum",
                                           "ocp-connected-bodies", "ocp-dumbbell",        "ocp-free-body-slew",
                                           "ocp-pendulum",        "pendulum",             "pendulum-controlled",
-                                          "spacecraft-tumble",   "symmetric-top"};
+                                          "spacecraft-tumble",   "symmetric-top",        "uniform-gravity"};
   ASSERT_EQ(lines.size(), names.size()) << r.out;
   for (std::size_t i = 0; i < names.size(); ++i) {
     EXPECT_EQ(lines[i].rfind(std::string(names[i]) + " ", 0), 0u) << lines[i];
@@ -383,10 +383,10 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   for (const auto& e : fs::directory_iterator(dir.work() / "res")) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());
   std::vector<std::string> expected = {"summary.csv", "summary.jsonl", "suite-journal.jsonl", "suite-run.json"};
-  for (const char* scene : {"attitude-spring", "cart-pendulum", "connected-bodies", "connected-bodies-controlled",
-                            "detest-b5", "dumbbell", "free-body", "hlw-rigid-body", "lagrange-top", "magnetic-dipole",
-                            "manifold-rigid-body", "pendulum", "pendulum-controlled",
-                            "spacecraft-tumble", "symmetric-top"}) {
+  for (const char* scene : {"anchored-spring", "attitude-spring", "cart-pendulum", "connected-bodies",
+                            "connected-bodies-controlled", "detest-b5", "dumbbell", "free-body", "hlw-rigid-body",
+                            "lagrange-top", "magnetic-dipole", "manifold-rigid-body", "pendulum", "pendulum-controlled",
+                            "spacecraft-tumble", "symmetric-top", "uniform-gravity"}) {
     for (const char* suffix : {"-symmetric.csv", "-printed.csv", "-energy.png", "-orthogonality.png", "-momentum.png"}) {
       expected.push_back(scene + std::string(suffix));
     }
@@ -395,11 +395,11 @@ TEST(CliSuite, DefaultSuiteWritesCsvsSummaryAndPlots) {
   EXPECT_EQ(files, expected);  // and no temporaries
 
   const std::vector<std::string> summary = lines_of(read_text(dir.work() / "res" / "summary.jsonl"));
-  ASSERT_EQ(summary.size(), 30u);  // one JSON object per run: 15 scenes, 2 forms
-  // The metadata lines ('#') state the units and what each error column is; then header + 30 rows.
+  ASSERT_EQ(summary.size(), 34u);  // one JSON object per run: 17 scenes, 2 forms
+  // The metadata lines ('#') state the units and what each error column is; then header + 34 rows.
   const std::vector<std::string> csv = lines_of(read_text(dir.work() / "res" / "summary.csv"));
   const auto metadata_end = std::find_if(csv.begin(), csv.end(), [](const std::string& l) { return !l.starts_with("#"); });
-  EXPECT_EQ(csv.end() - metadata_end, 31);
+  EXPECT_EQ(csv.end() - metadata_end, 35);
   const std::string metadata = std::accumulate(csv.begin(), metadata_end, std::string());
   for (const char* line : {"# suite: default", "# form: full", "# units: ", "# errors: ",
                            "# columns.max_energy_error_relative: ", "# columns.max_energy_error_absolute: ",

@@ -33,12 +33,12 @@ SceneError scene_error(const std::string& text, const SceneOverrides& overrides 
 
 TEST(DefaultScenes, AllLoadAndKeepTheirCsvSmall) {
   const std::vector<std::string> names = scene_names(default_scenes_dir());
-  EXPECT_EQ(names, (std::vector<std::string>{"attitude-spring", "cart-pendulum", "connected-bodies", "connected-bodies-controlled",
+  EXPECT_EQ(names, (std::vector<std::string>{"anchored-spring", "attitude-spring", "cart-pendulum", "connected-bodies", "connected-bodies-controlled",
                                              "detest-b5", "dumbbell", "free-body", "hlw-rigid-body", "lagrange-top",
                                              "magnetic-dipole", "manifold-rigid-body",
                                              "ocp-cart-pendulum", "ocp-connected-bodies", "ocp-dumbbell",
                                              "ocp-free-body-slew", "ocp-pendulum", "pendulum", "pendulum-controlled",
-                                             "spacecraft-tumble", "symmetric-top"}));
+                                             "spacecraft-tumble", "symmetric-top", "uniform-gravity"}));
   for (const std::string& name : names) {
     const Scene s = load_scene(default_scene_file(name));
     EXPECT_EQ(s.name, name);

@@ -47,7 +47,9 @@ using SystemCases = ::testing::Types<SystemCase<experiments::FreeBodyModel, "fre
                                      SystemCase<experiments::CartPendulumModel, "cart-pendulum">,
                                      SystemCase<experiments::ConnectedBodiesModel, "connected-bodies">,
                                      SystemCase<experiments::PotentialBodyModel, "magnetic-dipole">,
-                                     SystemCase<experiments::PotentialBodyModel, "attitude-spring">>;
+                                     SystemCase<experiments::PotentialBodyModel, "attitude-spring">,
+                                     SystemCase<experiments::PotentialBodySE3Model, "anchored-spring">,
+                                     SystemCase<experiments::PotentialBodySE3Model, "uniform-gravity">>;
 
 struct CaseNames {
   template <class Case>
