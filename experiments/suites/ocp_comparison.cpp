@@ -94,11 +94,11 @@ const char* solver_id(OcpSolver s) {
 const char* solver_label(OcpSolver s) {
   switch (s) {
     case OcpSolver::Indirect: return "discrete indirect shooting (LGVI)";
-    case OcpSolver::ContinuousIndirect: return "continuous indirect shooting (CVODES)";
-    case OcpSolver::Slsqp: return "SLSQP single shooting (LGVI; splines)";
-    case OcpSolver::Ipopt: return "IPOPT multiple shooting (LGVI; splines)";
+    case OcpSolver::ContinuousIndirect: return "continuous indirect (CVODES; own figures)";
+    case OcpSolver::Slsqp: return "SLSQP single shooting (LGVI)";
+    case OcpSolver::Ipopt: return "IPOPT multiple shooting (LGVI)";
     case OcpSolver::Ddp: return "DDP (LGVI; node controls)";
-    case OcpSolver::Collocation: return "Hermite-Simpson collocation (quaternions)";
+    case OcpSolver::Collocation: return "Hermite-Simpson collocation";
   }
   return "?";
 }
