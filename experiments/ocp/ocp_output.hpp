@@ -136,7 +136,7 @@ const System& with_sphere_radius(const System& s, const std::optional<double>& r
 /// rtol = atol = 1e-13, interpreted as the form's kicks apply them, appended as the summary's
 /// replay (what was run), replay_interpolation, replayed_cost, replayed_violation (the norm of
 /// violation_norm), replayed_quaternion_drift, replay_seconds, replay_cpu_seconds (the calling thread's) and replay_status ("ok" or why not;
-/// then those four numbers are left out, never NaN). u empty (no run of the method completed): not replayed.
+/// then those numbers are left out, never NaN). u empty (no run of the method completed): not replayed.
 template <class System, class Problem>
 void add_replay_fields(Fields& f, const System& system, const Problem& problem, const Eigen::MatrixXd& u, double h,
                        LgviForm form, const Eigen::MatrixXd& W) {
