@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <functional>
 #include <vector>
 
@@ -27,6 +28,13 @@ ReplayInterpolation replay_interpolation(LgviForm form) {
 }
 
 namespace {
+
+/// CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID), seconds.
+double thread_cpu_seconds() {
+  timespec ts{};
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 /// Number of intervals of c's nodes.
 Eigen::Index intervals_of(const ReplayControls& c) {
@@ -85,9 +93,14 @@ template <class Mech, class Residual>
 ReplayResult run(const Mech& mechanics, Schedule& schedule, const typename CoordinateOde<QuaternionChart, Mech>::State& y0,
                  const ReplayControls& c, const ReplayOptions& options, Residual residual) {
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = thread_cpu_seconds();
   using Ode = CoordinateOde<QuaternionChart, Mech>;
   const Ode ode(mechanics);
   ReplayResult out;
+  const auto stamp = [&] {
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.cpu_seconds = thread_cpu_seconds() - cpu_start;
+  };
   out.interpolation = c.interpolation;
   out.cost = replayed_cost(c);
   SolverSettings settings;
@@ -113,13 +126,13 @@ ReplayResult run(const Mech& mechanics, Schedule& schedule, const typename Coord
     if (!stats.ok()) {
       out.message = "replay by " + options.method + " failed in the interval of step " + std::to_string(k) +
                     " (t = " + std::to_string(times[0]) + "): " + stats.brief();
-      out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      stamp();
       return out;
     }
     y.swap(next);
   }
   if (!out.message.empty()) {
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stamp();
     return out;
   }
   const typename Ode::Decoded d = ode.decode(y.data());
@@ -128,7 +141,7 @@ ReplayResult run(const Mech& mechanics, Schedule& schedule, const typename Coord
   out.violation = out.residual.norm();
   out.ok = std::isfinite(out.violation);
   if (!out.ok) out.message = "the replayed terminal state is not finite";
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stamp();
   return out;
 }
 

@@ -90,6 +90,7 @@ struct ReplayResult {
   std::size_t steps = 0;          ///< solver steps, all intervals
   std::size_t rhs_evaluations = 0;
   double seconds = 0.0;           ///< wall time of the replay
+  double cpu_seconds = 0.0;       ///< CPU time of the calling thread in the replay
   ReplayInterpolation interpolation = ReplayInterpolation::ZeroOrderHold;
 };
 

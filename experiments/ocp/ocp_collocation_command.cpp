@@ -64,8 +64,7 @@ template <class M>
 int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const std::string& command_line,
                     std::ostream& out, std::ostream& err) {
   using B = OcpBinding<M>;
-  constexpr bool attitude = std::is_same_v<M, PendulumModel> || std::is_same_v<M, FreeBodyModel>;
-  if constexpr (!attitude) {
+  if constexpr (!B::collocation) {
     throw InvalidInput("--solver", std::string("collocation is implemented for the attitude transfers (pendulum, "
                                                "free body) so far, not the ") +
                                        M::name);
@@ -132,7 +131,8 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
         const Fields numbers = {{"replayed_cost", rr.cost},
                                 {"replayed_violation", rr.violation},
                                 {"replayed_quaternion_drift", rr.quaternion_drift},
-                                {"replay_seconds", rr.seconds}};
+                                {"replay_seconds", rr.seconds},
+                                {"replay_cpu_seconds", rr.cpu_seconds}};
         f.insert(f.end(), numbers.begin(), numbers.end());
       }
     }

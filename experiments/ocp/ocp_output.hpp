@@ -135,8 +135,8 @@ const System& with_sphere_radius(const System& s, const std::optional<double>& r
 /// (n_u x (N + 1), column j at t_j = j h) replayed on the quaternion model by gsl-rk8pd at
 /// rtol = atol = 1e-13, interpreted as the form's kicks apply them, appended as the summary's
 /// replay (what was run), replay_interpolation, replayed_cost, replayed_violation (the norm of
-/// violation_norm), replayed_quaternion_drift, replay_seconds and replay_status ("ok" or why not;
-/// then those four numbers are left out, never NaN). u empty (no run of the method completed): not replayed.
+/// violation_norm), replayed_quaternion_drift, replay_seconds, replay_cpu_seconds (the calling thread's) and replay_status ("ok" or why not;
+/// then those numbers are left out, never NaN). u empty (no run of the method completed): not replayed.
 template <class System, class Problem>
 void add_replay_fields(Fields& f, const System& system, const Problem& problem, const Eigen::MatrixXd& u, double h,
                        LgviForm form, const Eigen::MatrixXd& W) {
@@ -170,7 +170,8 @@ void add_replay_fields(Fields& f, const System& system, const Problem& problem, 
     const Fields numbers = {{"replayed_cost", r.cost},
                             {"replayed_violation", r.violation},
                             {"replayed_quaternion_drift", r.quaternion_drift},
-                            {"replay_seconds", r.seconds}};
+                            {"replay_seconds", r.seconds},
+                            {"replay_cpu_seconds", r.cpu_seconds}};
     f.insert(f.end(), numbers.begin(), numbers.end());
   }
 }

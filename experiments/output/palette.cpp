@@ -60,6 +60,14 @@ constexpr Entry kTable[] = {
     {"dumbbell", "#009E73", 9, 1},
     {"cart-pendulum", "#CC79A7", 11, 1},
     {"connected-bodies", "#E69F00", 13, 1},
+    // Figures with one curve per optimal control method (suite ocp-comparison, method ids of
+    // experiments/suites/ocp_comparison.cpp): the discrete methods solid, the continuous dashed.
+    {"indirect-shooting", "#000000", 5, 1},
+    {"slsqp", "#0072B2", 9, 1},
+    {"ipopt", "#009E73", 5, 1},
+    {"ddp", "#CC79A7", 7, 1},
+    {"continuous-indirect", "#D55E00", 9, 2},
+    {"collocation", "#882255", 13, 2},
 };
 
 struct ModelDash {

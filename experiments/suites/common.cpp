@@ -218,6 +218,7 @@ fs::path plot_xy(const RenderContext& ctx, const std::string& name, const std::s
       char buf[64];
       std::snprintf(buf, sizeof buf, "%.17g %.17g\n", x, y);
       block += buf;
+      if (c.scatter) block += '\n';  // a blank line: gnuplot does not join the points
     }
     if (block.empty()) continue;
     text += block + "\n\n";

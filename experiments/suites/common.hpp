@@ -91,10 +91,12 @@ std::filesystem::path plot_iterations(const RenderContext& ctx, const std::strin
                                       const std::vector<const SummaryRow*>& rows);
 
 /// One curve of an x-y figure: points in drawing order, and its style (none: its label's).
+/// scatter: the points are drawn unjoined (independent runs, e.g. the starts of a multistart).
 struct XyCurve {
   std::string label;
   std::vector<std::pair<double, double>> points;
   std::optional<PlotStyle> style = std::nullopt;
+  bool scatter = false;
 };
 /// Points above this are left out of the log-log figures, as non-finite ones are: a run that
 /// diverged without stopping would stretch the axis over a hundred decades. The figure says how
@@ -146,6 +148,8 @@ Suite soak_suite(const SuiteParams& params);
 Suite sensitivity_suite(const SuiteParams& params);
 const std::vector<std::string>& sensitivity_columns();
 Suite shooting_suite(const SuiteParams& params);
+/// Every optimal control method on each of the paper's examples (experiments/suites/ocp_comparison.cpp).
+Suite ocp_comparison_suite(const SuiteParams& params);
 /// Every suite above, cases prefixed "<suite>/" (one subdirectory per suite), each rendered by
 /// its own renderer.
 Suite all_suite(const SuiteParams& params);

@@ -30,6 +30,8 @@ const std::vector<SuiteEntry>& suite_registry() {
        suites::sensitivity_suite},
       {"shooting", "indirect optimal control: convergence histories and condition numbers, discrete vs continuous, "
                    "decomposed vs not", suites::shooting_suite},
+      {"ocp-comparison", "every optimal control method on the paper's examples, 8 starts (quick 2): own and replayed "
+                         "cost and violation against CPU time", suites::ocp_comparison_suite},
       {"all", "every suite above, one subdirectory each (the README's main command runs it with --quick)",
        suites::all_suite},
   };

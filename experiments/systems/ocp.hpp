@@ -17,6 +17,8 @@
 //                                  solve_continuous(m, problem, options) and
 //                                  continuous_costate(lambda_0), the discrete multiplier on the
 //                                  continuous costate's coordinates
+//   collocation                    continuous Hermite-Simpson collocation of the quaternion model
+//                                  exists (lgvi/ocp/collocation.hpp, `ocp --solver collocation`)
 //   violation_norm, violation_parts   the summary's terminal violation: what its norm is, and
 //                                  its parts {name, offset, size} in the residual
 //   state_columns(c), state_row(row, lgvi, s)   the trajectory CSV's state columns
@@ -42,6 +44,7 @@ template <class M>
 struct OcpBinding {
   static constexpr bool indirect = false;
   static constexpr bool direct = false;
+  static constexpr bool collocation = false;
   static constexpr int nu = 0;
   static constexpr const char* violation_label = "";
   static constexpr const char* figure_script = "";
@@ -74,6 +77,7 @@ template <class M>
 struct AttitudeOcpBinding {
   static constexpr bool indirect = true;
   static constexpr bool direct = false;
+  static constexpr bool collocation = true;
   static constexpr int nu = 3;
   static ocp::TransferProblem transfer(const M& m, const AttitudeInitial& target, double t_final) {
     ocp::TransferProblem p;
@@ -146,6 +150,7 @@ template <>
 struct OcpBinding<DumbbellModel> {
   static constexpr bool indirect = true;
   static constexpr bool direct = false;
+  static constexpr bool collocation = false;
   static constexpr int nu = 6;
   using IndirectModel = ocp::DumbbellModel;
   static const DumbbellSpacecraft& system(const DumbbellModel& m) { return m.system; }
@@ -219,6 +224,7 @@ template <>
 struct OcpBinding<CartPendulumModel> {
   static constexpr bool indirect = false;
   static constexpr bool direct = true;
+  static constexpr bool collocation = false;
   static constexpr int nu = 2;
   using DirectModel = ocp::CartPendulumDirectModel;
   static const CartPendulum& system(const CartPendulumModel& m) { return m.system; }
@@ -272,6 +278,7 @@ template <>
 struct OcpBinding<ConnectedBodiesModel> {
   static constexpr bool indirect = false;
   static constexpr bool direct = true;
+  static constexpr bool collocation = false;
   static constexpr int nu = 3;
   using DirectModel = ocp::ConnectedBodiesDirectModel;
   static const ConnectedBodies& system(const ConnectedBodiesModel& m) { return m.system; }

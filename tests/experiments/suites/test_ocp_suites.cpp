@@ -83,6 +83,54 @@ TEST(OcpSuiteCases, ShootingExpectsTheUndecomposedAndDegenerateRunsToFail) {
 
 // --- end to end ----------------------------------------------------------------------------------
 
+// ocp-comparison: every example x every method is present, as runs or as one named n/a case (its
+// binding has no such solver); 2 starts quick, 8 full (collocation: its one guess), the full form
+// adding start 0 at 2h and h/2. The n/a cases report status n/a with the reason, run nothing.
+TEST(OcpSuiteCases, ComparisonCoversEveryExampleAndMethodWithNamedGaps) {
+  const std::set<std::string> examples = {"pendulum", "dumbbell", "cart-pendulum", "connected-bodies"};
+  const std::set<std::string> methods = {"indirect-shooting", "continuous-indirect", "slsqp",
+                                         "ipopt",             "ddp",                 "collocation"};
+  for (const bool quick : {true, false}) {
+    const Suite s = ocp_suite("ocp-comparison", quick);
+    std::map<std::pair<std::string, std::string>, std::set<std::string>> seen;  // (example, method) -> ids
+    for (const SuiteCase& c : s.cases) {
+      EXPECT_EQ(c.expect, Expectation::Either) << c.id;
+      seen[{label_of(c, "system"), label_of(c, "method")}].insert(c.id);
+    }
+    EXPECT_EQ(seen.size(), examples.size() * methods.size());
+    for (const std::string& e : examples) {
+      for (const std::string& m : methods) {
+        const std::set<std::string>& ids = seen[std::make_pair(e, m)];
+        ASSERT_FALSE(ids.empty()) << e << " " << m;
+        if (ids.begin()->ends_with("-na")) {
+          EXPECT_EQ(ids.size(), 1u) << e << " " << m;
+          continue;
+        }
+        const std::size_t starts = m == "collocation" ? 1 : quick ? 2 : 8;
+        const std::size_t variants = quick || m == "continuous-indirect" ? 0 : 2;
+        EXPECT_EQ(ids.size(), starts + variants) << e << " " << m;
+      }
+    }
+    // The applicability follows the bindings: the indirect examples have no direct solvers.
+    const auto na = [&](const std::string& e, const std::string& m) {
+      return seen[std::make_pair(e, m)].begin()->ends_with("-na");
+    };
+    EXPECT_TRUE(na("pendulum", "slsqp"));
+    EXPECT_TRUE(na("connected-bodies", "indirect-shooting"));
+    EXPECT_FALSE(na("pendulum", "collocation"));
+    EXPECT_FALSE(na("dumbbell", "continuous-indirect"));
+  }
+  const Suite s = ocp_suite("ocp-comparison", true);
+  for (const SuiteCase& c : s.cases) {
+    if (c.id != "pendulum-ddp-na") continue;
+    const experiments::JobResult r =
+        c.job->run(experiments::JobContext{::testing::TempDir(), experiments::default_scenes_dir(), c.id, "test"});
+    EXPECT_FALSE(r.completed);
+    EXPECT_EQ(r.status, "n/a");
+    EXPECT_NE(r.detail.find("no direct"), std::string::npos) << r.detail;
+  }
+}
+
 TEST(OcpSuiteEndToEnd, QuickSensitivityAgreesWithDifferencesAndConvergesAtSecondOrder) {
   TempDir dir;
   const CliResult r = run_testbed(dir, {"suite", "sensitivity", "--quick", "--out", "res", "--jobs", "2"});
