@@ -382,6 +382,17 @@ std::vector<PotentialBody> potential_bodies() {
           PotentialBody(J, MagneticDipole{Vec3(0.0, 0.3, 2.0), Vec3(0.05, -0.02, 0.1)})};
 }
 
+/// The field an InvalidInput from make() names, "(accepted)" when make() does not throw.
+template <class Make>
+std::string field_of(Make&& make) {
+  try {
+    make();
+  } catch (const InvalidInput& e) {
+    return e.field();
+  }
+  return "(accepted)";
+}
+
 class PotentialBodyAt : public testing::TestWithParam<Attitude> {};
 
 // M = -dU/d eta, and eq. 13 with dU/dR by differences (both potentials are defined for any 3x3
@@ -424,14 +435,6 @@ TEST(PotentialBody, SpringHasItsClosedFormAboutTheTarget) {
 
 TEST(PotentialBody, RejectsABadParameterNamingIt) {
   const Mat3 J = Vec3(0.13, 0.28, 0.17).asDiagonal();
-  const auto field_of = [](auto&& make) -> std::string {
-    try {
-      make();
-    } catch (const InvalidInput& e) {
-      return e.field();
-    }
-    return "(accepted)";
-  };
   EXPECT_EQ(field_of([&] { PotentialBody(J, AttitudeSpring{0.0, Mat3::Identity()}); }), "stiffness");
   EXPECT_EQ(field_of([&] { PotentialBody(J, AttitudeSpring{-1.0, Mat3::Identity()}); }), "stiffness");
   EXPECT_EQ(field_of([&] { PotentialBody(J, AttitudeSpring{1.0, 2.0 * Mat3::Identity()}); }), "target");
@@ -502,14 +505,6 @@ TEST(PotentialBodySE3, SpringExertsNoTorqueAboutItsAnchor) {
 
 TEST(PotentialBodySE3, RejectsABadParameterNamingIt) {
   const Mat3 J = Vec3(0.02, 0.03, 0.04).asDiagonal();
-  const auto field_of = [](auto&& make) -> std::string {
-    try {
-      make();
-    } catch (const InvalidInput& e) {
-      return e.field();
-    }
-    return "(accepted)";
-  };
   const Vec3 z = Vec3::Zero();
   EXPECT_EQ(field_of([&] { PotentialBodySE3(0.0, J, UniformGravity{z}); }), "mass");
   EXPECT_EQ(field_of([&] { PotentialBodySE3(NAN, J, UniformGravity{z}); }), "mass");
