@@ -102,10 +102,7 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
         {"violation", S.violation},
         {"violation_norm", std::string(B::violation_norm)},
     };
-    const Eigen::VectorXd& r = S.residual;
-    if (r.size() > 0) {
-      for (const ResidualPart& p : B::violation_parts) f.push_back({p.name, r.segment(p.offset, p.size).norm()});
-    }
+    ocp_output::add_violation_parts<B>(f, S.residual);
     {
       // The collocation's own control: the quadratic through node, midpoint and node.
       baselines::ReplayControls c;

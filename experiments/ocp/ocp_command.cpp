@@ -80,7 +80,6 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
 
   // Violation by parts (the norm is the 2-norm of all of them, see lgvi/ocp/indirect.hpp).
   const Eigen::VectorXd& r = S.residual;
-  const bool have_r = r.size() > 0;
   Fields f = {
       {"system", run.system},
       {"method", std::string("indirect shooting (Newton-Armijo on lambda_0)")},
@@ -101,9 +100,7 @@ int solve_and_write(const typename Model::System& system, const ocp::TransferPro
       {"violation", S.violation},
       {"violation_norm", std::string(B::violation_norm)},
   };
-  for (const ResidualPart& p : B::violation_parts) {
-    f.push_back({p.name, have_r ? r.segment(p.offset, p.size).norm() : S.violation});
-  }
+  ocp_output::add_violation_parts<B>(f, r, S.violation);
   // The replayed yardstick of the final sweep's controls (the whole sweep only).
   const bool complete = result.sweep.controls.size() == S.steps + 1;
   ocp_output::add_replay_fields(f, system, problem,

@@ -62,7 +62,6 @@ int solve_and_write(const typename Model::System& system, const typename Model::
   Eigen::VectorXd knot_times(S.knots);
   for (int i = 0; i < S.knots; ++i) knot_times(i) = problem.t_final * i / (S.knots - 1);
   const Eigen::VectorXd& r = S.residual;
-  const bool have_r = r.size() > 0;
   Fields f = {
       {"system", run.system},
       {"method", std::string(options.solver == ocp::DirectSolver::Slsqp
@@ -91,9 +90,7 @@ int solve_and_write(const typename Model::System& system, const typename Model::
       {"constraint_violation", S.constraint_violation},
       {"constraints", std::int64_t{S.constraints}},
   };
-  if (have_r) {
-    for (const ResidualPart& p : B::violation_parts) f.push_back({p.name, r.segment(p.offset, p.size).norm()});
-  }
+  ocp_output::add_violation_parts<B>(f, r);
   ocp_output::add_replay_fields(f, system, problem,
                                 result.controls.cols() == static_cast<Eigen::Index>(S.steps) + 1 ? Eigen::MatrixXd(result.controls)
                                                                                                 : Eigen::MatrixXd(),
@@ -231,9 +228,7 @@ int solve_and_write_ddp(const typename Model::System& system, const typename Mod
       {"violation_norm", std::string(B::violation_norm)},
       {"constraints", std::int64_t{S.constraints}},
   };
-  if (r.size() > 0) {
-    for (const ResidualPart& p : B::violation_parts) f.push_back({p.name, r.segment(p.offset, p.size).norm()});
-  }
+  ocp_output::add_violation_parts<B>(f, r);
   ocp_output::add_replay_fields(f, system, problem,
                                 result.controls.cols() == static_cast<Eigen::Index>(S.steps) + 1 ? Eigen::MatrixXd(result.controls)
                                                                                                 : Eigen::MatrixXd(),

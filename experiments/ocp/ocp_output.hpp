@@ -131,6 +131,17 @@ const System& with_sphere_radius(const System& s, const std::optional<double>& r
   return s;
 }
 
+/// The terminal violation's parts (OcpBinding<M>::violation_parts: name, offset, size), each the
+/// norm of its segment of the residual r; with no residual (r empty: no sweep completed), the
+/// parts take `without_residual` when given (the indirect summary's whole violation), else none.
+template <class B>
+void add_violation_parts(Fields& f, const Eigen::VectorXd& r, std::optional<double> without_residual = std::nullopt) {
+  if (r.size() == 0 && !without_residual) return;
+  for (const auto& p : B::violation_parts) {
+    f.push_back({p.name, r.size() > 0 ? r.segment(p.offset, p.size).norm() : *without_residual});
+  }
+}
+
 /// The replayed yardstick of a solved answer (baselines/ocp_replay.hpp): its node controls u
 /// (n_u x (N + 1), column j at t_j = j h) replayed on the quaternion model by gsl-rk8pd at
 /// rtol = atol = 1e-13, interpreted as the form's kicks apply them, appended as the summary's
