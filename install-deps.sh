@@ -29,6 +29,7 @@ packages=(
   fonts-dejavu-core      # a font for the PNG plots (not pulled in without recommends)
   clang                  # tests/sanitize.sh: the ASan+UBSan build and the libFuzzer target
   libclang-rt-14-dev     # clang's sanitizer and libFuzzer runtimes (only recommended by clang)
+  slurmctld slurmd slurm-client munge  # tests/slurm: a single-node SLURM runs a sharded study
 )
 
 missing=()
