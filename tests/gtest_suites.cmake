@@ -10,11 +10,16 @@
 # failure's output names the failing test; -DLGVI_CTEST_EACH_TEST=ON registers every test alone.
 #
 # Inputs (-D): EXECUTABLE, CTEST_FILE, TIMEOUT (seconds per suite), TEST_PREFIX (prepended to
-# each suite's name).
+# each suite's name), COSTS_FILE (test_costs.txt: a suite listed there gets its COST).
 execute_process(COMMAND ${EXECUTABLE} --gtest_list_tests
   OUTPUT_VARIABLE listing RESULT_VARIABLE rc ERROR_VARIABLE errors TIMEOUT 60)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "${EXECUTABLE} --gtest_list_tests failed (${rc}):\n${errors}${listing}")
+endif()
+
+set(costs "")
+if(COSTS_FILE)
+  file(STRINGS "${COSTS_FILE}" costs REGEX "^[^#]")
 endif()
 
 string(REPLACE ";" "\\;" listing "${listing}")
@@ -29,6 +34,11 @@ foreach(line IN LISTS lines)
     set(suite "${CMAKE_MATCH_1}")
     string(APPEND content "add_test([=[${TEST_PREFIX}${suite}]=] [==[${EXECUTABLE}]==] [=[--gtest_filter=${suite}.*]=])\n"
       "set_tests_properties([=[${TEST_PREFIX}${suite}]=] PROPERTIES TIMEOUT ${TIMEOUT})\n")
+    foreach(cost IN LISTS costs)
+      if(cost MATCHES "^([^ ]+) +([0-9.]+)$" AND CMAKE_MATCH_1 STREQUAL "${TEST_PREFIX}${suite}")
+        string(APPEND content "set_tests_properties([=[${TEST_PREFIX}${suite}]=] PROPERTIES COST ${CMAKE_MATCH_2})\n")
+      endif()
+    endforeach()
     math(EXPR count "${count} + 1")
   endif()
 endforeach()
