@@ -185,7 +185,7 @@ fs::path plot_bands(const RenderContext& ctx, const std::string& name, const std
   TempPath list(figure.string() + ".curves");
   list.write(suites::curve_list_text(args));
   run_gnuplot_script(ctx.gnuplot, ctx.plots_dir / "xy_bands_loglog.gp", figure,
-                     {wrap_text(title, 72), xlabel, ylabel, gnuplot_path(list.fd_path())}, {&data, &list});
+                     {wrap_text(title, 64) /* 72, the study figures' width, cut the last character off these titles */, xlabel, ylabel, gnuplot_path(list.fd_path())}, {&data, &list});
   return figure;
 }
 
@@ -305,8 +305,8 @@ SuiteRenderer ensemble_renderer(std::string name, std::vector<std::string> metri
           const std::string xlabel = suffix == "time" ? "median integrator wall time per run [s]"
                                                       : "median evaluations (baselines: RHS calls; LGVI: substeps)";
           const fs::path png = plot_bands(ctx, group + "-" + v.file + "-bands-" + suffix,
-                                          group + ": " + v.what + " over the samples vs cost (median; 25-75% and "
-                                                  "5-95% bands)",
+                                          group + ": " + v.what + " vs cost over the samples (median, 25-75%, "
+                                                  "5-95%)",
                                           xlabel, v.ylabel, curves);
           if (!png.empty()) files.push_back(png);
         }
