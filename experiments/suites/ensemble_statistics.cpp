@@ -12,6 +12,7 @@
 #include "experiments/output/fields.hpp"
 #include "experiments/output/plot.hpp"
 #include "experiments/suites/common.hpp"
+#include "experiments/suites/study.hpp"
 
 namespace lgvi::experiments {
 
@@ -115,24 +116,6 @@ std::string number_text(double x) {
   return buf;
 }
 
-/// The error metrics of the figures and tables: (study metric, column, what, axis label, file part).
-struct ErrorView {
-  const char* metric;
-  const char* column;
-  const char* what;
-  const char* ylabel;
-  const char* file;
-};
-constexpr ErrorView kErrorViews[] = {
-    {"final-error", "final_error", "final-state error", "final-state error (dimensionless)", "error"},
-    {"energy", "max_energy_error_relative", "max energy error", "max |E - E_0| / |E_0|", "energy"},
-    {"momentum", "max_momentum_drift_absolute", "max momentum-map error", "max |m - m_0| (momentum unit)", "momentum"},
-    {"orthogonality", "max_orthogonality_error", "max orthogonality error", "max ||R^T R - I||_F", "orthogonality"},
-};
-
-/// Levels of the cheapest-method tables (those of the study renderer).
-const std::vector<double> kLevels = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
-
 /// "h = 0.05" or "rtol = 1e-06": the setting as short as reads back the same (the summary writes
 /// 0.050000000000000003).
 std::string setting_text(const EnsembleStatistic& s) {
@@ -195,7 +178,7 @@ fs::path plot_bands(const RenderContext& ctx, const std::string& name, const std
 std::string cheapest_rows(const std::vector<EnsembleStatistic>& stats, const std::string& group,
                           const std::string& column, const std::string& cost, bool by_q95) {
   std::string t;
-  for (const double level : kLevels) {
+  for (const double level : kStudyLevels) {
     const EnsembleStatistic* best = nullptr;
     const EnsembleStatistic* best_cost = nullptr;
     for (const EnsembleStatistic& s : stats) {
@@ -260,7 +243,7 @@ SuiteRenderer ensemble_renderer(std::string name, std::vector<std::string> metri
                      + name + "-statistics.csv.\n";
     for (const std::string& group : groups) {
       md += "\n## " + group + "\n";
-      for (const ErrorView& v : kErrorViews) {
+      for (const StudyMetricView& v : kStudyMetricViews) {
         if (!chosen(v.metric)) continue;
         bool any = false;
         std::string table = "\n### " + std::string(v.what) +
@@ -280,7 +263,7 @@ SuiteRenderer ensemble_renderer(std::string name, std::vector<std::string> metri
       // The banded work-precision figures and the cheapest methods.
       std::vector<std::pair<std::string, std::string>> axes = {{"evaluations", "evaluations"}};
       if (timed) axes.insert(axes.begin(), {"integrator_seconds_min", "time"});
-      for (const ErrorView& v : kErrorViews) {
+      for (const StudyMetricView& v : kStudyMetricViews) {
         if (!chosen(v.metric)) continue;
         for (const auto& [cost, suffix] : axes) {
           std::vector<BandCurve> curves;

@@ -347,23 +347,8 @@ std::string tag_e(double x) {
 
 bool has(const std::vector<std::string>& v, std::string_view x) { return std::find(v.begin(), v.end(), x) != v.end(); }
 
-/// A metric's summary column, its axis label and its name in titles and file names.
-struct MetricView {
-  const char* metric;
-  const char* column;
-  const char* ylabel;
-  const char* what;
-  const char* file;
-};
-constexpr MetricView kMetricViews[] = {
-    {"final-error", "final_error", "final-state error (dimensionless)", "final-state error", "error"},
-    {"energy", "max_energy_error_relative", "max |E - E_0| / |E_0|", "max energy error", "energy"},
-    {"momentum", "max_momentum_drift_absolute", "max |m - m_0| (momentum unit)", "max momentum-map error", "momentum"},
-    {"orthogonality", "max_orthogonality_error", "max ||R^T R - I||_F", "max orthogonality error", "orthogonality"},
-};
-
 /// Levels of the cheapest-method tables.
-const std::vector<double> kLevels = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+const std::vector<double> kLevels(std::begin(kStudyLevels), std::end(kStudyLevels));
 
 /// Each method's finest run of a group: of its completed runs (one curve label: method, model
 /// and form), the one with the most evaluations (the smallest step or tightest tolerance).
@@ -396,7 +381,7 @@ SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics)
     for (const auto& [group, members] : groups) {
       const SummaryRow& first = *members.front();
       const std::string horizon = "T = " + suites::title_number(first, "t_final");
-      for (const MetricView& m : kMetricViews) {
+      for (const StudyMetricView& m : kStudyMetricViews) {
         if (!has(metrics, m.metric)) continue;
         std::string title = group + ": " + m.what + " over " + horizon + " vs cost";
         if (std::string_view(m.metric) == "final-error") title += " (reference: " + first.text("reference") + ")";
@@ -439,7 +424,7 @@ SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics)
                         "the written samples; the final-state error is against the reference named in "
                         "summary.csv.\n";
     bool any = false;
-    for (const MetricView& m : kMetricViews) {
+    for (const StudyMetricView& m : kStudyMetricViews) {
       if (!has(metrics, m.metric) || std::string_view(m.metric) == "orthogonality") continue;
       table += std::string("\n## ") + m.what + "\n\n" + suites::cheapest_table(groups, m.column, m.what, kLevels);
       any = true;

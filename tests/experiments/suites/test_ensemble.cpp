@@ -208,69 +208,7 @@ TEST(Ensemble, MergedShardsRenderTheStatisticsOfOneRun) {
   EXPECT_NE(md.find("by 95% quantile"), std::string::npos);
 }
 
-struct BadEnsemble {
-  const char* what;
-  std::string text;
-  std::vector<std::string> needles;
-  bool quick = false;
-};
-
-class EnsembleBadInput : public ::testing::TestWithParam<BadEnsemble> {};
-
-TEST_P(EnsembleBadInput, IsOneLineNamingFileFieldAndReason) {
-  const BadEnsemble& b = GetParam();
-  TempDir dir;
-  const fs::path file = dir.scenes() / "bad-ens.toml";
-  write_text(file, b.text);
-  std::vector<std::string> args = {"study", file.string(), "--out", "res"};
-  if (b.quick) args.push_back("--quick");
-  std::vector<std::string> needles = b.needles;
-  needles.push_back(file.string());
-  expect_bad_input(dir, run_testbed(dir, args), needles);
-}
-
-const std::string kNoOmegaLaw = ensemble_with(kEnsembleStudy, "ensemble.omega = { norm = [1.0, 3.0] }\n", "");
-
-INSTANTIATE_TEST_SUITE_P(
-    All, EnsembleBadInput,
-    ::testing::Values(
-        BadEnsemble{"no_samples", ensemble_with(kEnsembleStudy, "ensemble.samples = 4", "ensemble.samples = 0"),
-                    {"ensemble.samples", "[1, 10000000]"}},
-        BadEnsemble{"no_seed", ensemble_with(kEnsembleStudy, "ensemble.seed = 7\n", ""), {"ensemble.seed", "is required"}},
-        BadEnsemble{"empty_range", ensemble_with(kEnsembleStudy, "norm = [1.0, 3.0]", "norm = [3.0, 1.0]"),
-                    {"ensemble.omega.norm", "empty range"}},
-        BadEnsemble{"negative_spread",
-                    ensemble_with(kEnsembleStudy, "ensemble.attitude = \"uniform\"",
-                         "ensemble.attitude = { law = \"about-nominal\", spread = -0.1 }"),
-                    {"ensemble.attitude.spread", "negative spread"}},
-        BadEnsemble{"negative_standard_deviation",
-                    kNoOmegaLaw + "ensemble.values = { \"initial.Omega[2]\" = { normal = [3.0, -1.0] } }\n",
-                    {"ensemble.values.\"initial.Omega[2]\".normal[1]", "negative spread"}},
-        BadEnsemble{"unknown_law", ensemble_with(kEnsembleStudy, "\"uniform\"", "\"gaussian\""),
-                    {"ensemble.attitude", "unknown law 'gaussian'"}},
-        BadEnsemble{"non_positive_moments", ensemble_with(kEnsembleStudy, "range = [0.5, 2.0]", "range = [0.0, 2.0]"),
-                    {"ensemble.moments.range[0]", "must be > 0"}},
-        BadEnsemble{"moments_of_a_system_without_them",
-                    ensemble_with(ensemble_with(ensemble_with(kEnsembleStudy, "[\"free-body\"]", "[\"dumbbell\"]"), "reference = \"exact\"",
-                              "reference = \"none\""),
-                         "\"final-error\", ", ""),
-                    {"ensemble.moments", "dumbbell", "no [parameters] inertia"}},
-        BadEnsemble{"attitude_of_a_system_without_one",
-                    ensemble_with(ensemble_with(ensemble_with(ensemble_with(kEnsembleStudy, "[\"free-body\"]", "[\"connected-bodies\"]"),
-                                   "reference = \"exact\"", "reference = \"none\""),
-                              "\"final-error\", ", ""),
-                         "ensemble.moments = { range = [0.5, 2.0] }\n", ""),
-                    {"ensemble.attitude", "connected-bodies", "cannot take it"}},
-        BadEnsemble{"a_value_the_scene_file_does_not_give",
-                    kEnsembleStudy + "ensemble.values = { \"parameters.mass\" = { uniform = [1.0, 2.0] } }\n",
-                    {"ensemble.values.\"parameters.mass\"", "has no number at parameters.mass"}},
-        BadEnsemble{"a_value_drawn_twice",
-                    kEnsembleStudy + "ensemble.values = { \"initial.Omega[0]\" = { uniform = [1.0, 2.0] } }\n",
-                    {"ensemble.values.\"initial.Omega[0]\"", "is drawn by ensemble.omega already"}},
-        BadEnsemble{"unknown_key", kEnsembleStudy + "ensemble.sample = 3\n", {"ensemble.sample", "unknown key"}},
-        BadEnsemble{"quick_samples", kEnsembleStudy + "quick.ensemble.samples = -1\n",
-                    {"quick.ensemble.samples", "[1, 10000000]"}, true}),
-    [](const ::testing::TestParamInfo<BadEnsemble>& info) { return std::string(info.param.what); });
+// The bad [ensemble] tables: test_study.cpp (StudyBadInput, instantiation Ensemble).
 
 TEST(EnsembleBadInput, SampleOutsideTheEnsembleOrWithoutOneIsNamed) {
   TempDir dir;
