@@ -208,6 +208,41 @@ TEST(Ensemble, MergedShardsRenderTheStatisticsOfOneRun) {
   EXPECT_NE(md.find("by 95% quantile"), std::string::npos);
 }
 
+// A normal law may draw what the scene refuses (a mass <= 0): those samples' cases are
+// rejected-input (the study exits 2, the others complete), counted among the failures with their
+// sample numbers.
+TEST(Ensemble, DrawsTheSceneRefusesAreRejectedInputAndCountedAsFailures) {
+  TempDir dir;
+  const fs::path file = dir.scenes() / "tops.toml";
+  write_text(file, R"(name = "tops"
+scenes = ["lagrange-top"]
+methods = ["lgvi"]
+horizons = [0.1]
+h = [0.01]
+metrics = ["energy"]
+ensemble.samples = 12
+ensemble.seed = 5
+ensemble.values = { "parameters.mass" = { normal = [0.0, 1.0] } }
+)");
+  const CliResult r = run_testbed(dir, {"study", file.string(), "--out", "res", "--no-plots"});
+  const auto rows = summary_rows_without_timings(dir.work() / "res" / "summary.csv");
+  ASSERT_EQ(rows.size(), 12u) << r.err;
+  std::string rejected;
+  for (const auto& row : rows) {
+    const bool refused = std::stod(row.at("parameters.mass")) <= 0.0;
+    EXPECT_EQ(row.at("status"), refused ? "rejected-input" : "completed") << row.at("parameters.mass");
+    if (refused) rejected += (rejected.empty() ? "" : " ") + row.at("sample");
+  }
+  EXPECT_EQ(r.exit_code, rejected.empty() ? 0 : 2) << r.err;
+  std::vector<experiments::SummaryRow> summary = experiments::read_summary_csv(dir.work() / "res" / "summary.csv");
+  const auto stats = experiments::ensemble_statistics(summary);
+  ASSERT_FALSE(stats.empty());
+  EXPECT_EQ(stats.front().failing_samples, rejected);
+  const std::size_t n = rejected.empty() ? 0 : static_cast<std::size_t>(std::count(rejected.begin(), rejected.end(), ' ') + 1);
+  EXPECT_EQ(stats.front().completed, 12u - n);
+  EXPECT_EQ(stats.front().failures, n == 0 ? std::string() : "rejected-input: " + std::to_string(n));
+}
+
 // The bad [ensemble] tables: test_study.cpp (StudyBadInput, instantiation Ensemble).
 
 TEST(EnsembleBadInput, SampleOutsideTheEnsembleOrWithoutOneIsNamed) {
