@@ -1,8 +1,9 @@
 // Ensembles in study files (experiments/suites/ensemble.hpp, ensemble_statistics.hpp,
 // experiments/studies/README.md "[ensemble]"): the laws draw inside their ranges, a sample is the
-// same whatever N, `study --sample K` re-runs sample K's rows bit for bit, a bad distribution is
-// one error line naming the file, field and reason, the statistics are the quantiles of the rows,
-// and the statistics of merged shards equal those of one run.
+// same whatever N, `study --sample K` re-runs sample K's rows bit for bit, a draw the scene refuses
+// is a counted failure, the statistics are the quantiles of the rows, and the statistics of merged
+// shards equal those of one run. A bad distribution (one error line naming the file, field and
+// reason): test_study.cpp, StudyBadInput's instantiation Ensemble.
 #include <algorithm>
 #include <cmath>
 #include <map>
