@@ -28,6 +28,7 @@
 
 #include "experiments/output/atomic_file.hpp"
 #include "experiments/output/data_dir.hpp"
+#include "experiments/suites/ensemble_statistics.hpp"
 #include "experiments/suites/study.hpp"
 #include "experiments/systems/systems.hpp"
 #include "lgvi/systems/potential_body.hpp"
@@ -720,13 +721,49 @@ fs::path resolve_study(const std::string& study) {
                         "; a path contains '/' or ends in .toml)");
 }
 
-/// Runs a study file into `out` like `lgvi-testbed study FILE --out OUT`, returns its rows.
+/// Runs a study file into `out` like `lgvi-testbed study FILE --out OUT [--sample K]`, returns its rows.
 py::list run_study(const std::string& study, const fs::path& out, bool quick, unsigned jobs,
                    const std::optional<std::string>& shard, bool plots, const std::optional<std::string>& formats,
-                   const std::optional<fs::path>& scenes_dir, bool progress) {
+                   const std::optional<fs::path>& scenes_dir, bool progress, std::optional<std::int64_t> sample) {
   const ex::SuiteOptions options =
       suite_options("lgvi.run_study('" + study + "')", out, quick, jobs, shard, plots, formats, scenes_dir);
-  return run_into(ex::load_study(resolve_study(study), ex::SuiteParams{quick, options.scenes_dir}), options, progress);
+  if (sample && *sample < 0) throw py::value_error("sample: must be >= 0 (got " + std::to_string(*sample) + ")");
+  std::optional<std::size_t> k;
+  if (sample) k = static_cast<std::size_t>(*sample);
+  return run_into(ex::load_study(resolve_study(study), ex::SuiteParams{quick, options.scenes_dir, k}), options,
+                  progress);
+}
+
+/// The statistics of the ensemble study run into `out` (NAME-statistics.csv's rows, computed
+/// from OUT/summary.csv), as columns: text columns lists of str, the others lists of float (NaN
+/// where there is no value) or int.
+py::dict study_statistics(const fs::path& out) {
+  const std::vector<ex::EnsembleStatistic> stats = ex::ensemble_statistics(ex::read_summary_csv(out / "summary.csv"));
+  py::dict d;
+  const auto text = [&](const char* key, auto member) {
+    py::list l;
+    for (const ex::EnsembleStatistic& s : stats) l.append(s.*member);
+    d[key] = l;
+  };
+  text("group", &ex::EnsembleStatistic::group);
+  text("label", &ex::EnsembleStatistic::label);
+  text("method", &ex::EnsembleStatistic::method);
+  text("model", &ex::EnsembleStatistic::model);
+  text("h", &ex::EnsembleStatistic::h);
+  text("rtol", &ex::EnsembleStatistic::rtol);
+  text("metric", &ex::EnsembleStatistic::metric);
+  text("samples", &ex::EnsembleStatistic::samples);
+  text("completed", &ex::EnsembleStatistic::completed);
+  text("count", &ex::EnsembleStatistic::count);
+  text("median", &ex::EnsembleStatistic::median);
+  text("q05", &ex::EnsembleStatistic::q05);
+  text("q25", &ex::EnsembleStatistic::q25);
+  text("q75", &ex::EnsembleStatistic::q75);
+  text("q95", &ex::EnsembleStatistic::q95);
+  text("max", &ex::EnsembleStatistic::max);
+  text("failures", &ex::EnsembleStatistic::failures);
+  text("failing_samples", &ex::EnsembleStatistic::failing_samples);
+  return d;
 }
 
 // --- validate -------------------------------------------------------------------------------------
@@ -1044,11 +1081,17 @@ void bind_harness(py::module_& m) {
         "data folder, or the source tree's for a build tree's module).");
   m.def("run_study", &run_study, py::arg("study"), py::arg("out"), py::arg("quick") = true, py::arg("jobs") = 1,
         py::arg("shard") = py::none(), py::arg("plots") = false, py::arg("formats") = py::none(),
-        py::arg("scenes_dir") = py::none(), py::arg("progress") = false,
+        py::arg("scenes_dir") = py::none(), py::arg("progress") = false, py::arg("sample") = py::none(),
         "Runs a study (a path, or a shipped study's name: data_dirs()['studies']) into the directory `out`, as "
         "`lgvi-testbed study FILE --out OUT`; returns the summary's rows (summary.jsonl) as a list of dicts, in "
         "case order. quick: the study's [quick] table; shard: 'i/N'; plots: draw the figures and tables (formats "
-        "'png', 'pdf', 'svg' or a list 'png,pdf'); progress: print the progress lines to stderr afterwards.");
+        "'png', 'pdf', 'svg' or a list 'png,pdf'); progress: print the progress lines to stderr afterwards; "
+        "sample: a study with an [ensemble]: only sample K (--sample K).");
+  m.def("study_statistics", &study_statistics, py::arg("out"),
+        "The statistics over the samples of the ensemble study run into `out` (computed from OUT/summary.csv as "
+        "NAME-statistics.csv is: per group, method label and setting, one entry per metric), as a dict of columns "
+        "(lists): group, label, method, model, h, rtol, metric (str), samples, completed, count (int), median, q05, "
+        "q25, q75, q95, max (float, NaN without values), failures, failing_samples (str).");
   m.def("solve_ocp", &solve_ocp, py::arg("system"),
         "Optimal control, as `lgvi-testbed ocp SYSTEM`: the paper's 'pendulum', 'dumbbell' (indirect shooting) or "
         "'cart-pendulum', 'connected-bodies' (direct method; solver='slsqp', 'ipopt' or 'ddp'), or a scene with an [ocp] "

@@ -144,6 +144,7 @@ class CommandLine {
 
   CLI::App* study_cmd = nullptr;
   std::string study_file;
+  std::optional<std::size_t> study_sample;
 
   CLI::App* validate_cmd = nullptr;
   bool validate_quick = false;
@@ -259,6 +260,8 @@ std::optional<int> CommandLine::parse(int argc, const char* const* argv, std::os
   study_cmd->add_flag("--quick", quick, "Apply the study's [quick] table (a small version)");
   study_cmd->add_option("--out", suite_out, "Output directory (default: results/NAME, NAME the study's name)");
   study_cmd->add_flag("--list", list_cases, "Print the case ids (of the shard) and exit");
+  study_cmd->add_option("--sample", study_sample,
+                        "A study with an [ensemble]: run only sample K (0-based), drawn exactly as in the whole run");
   study_cmd->add_option("--shard", shard_text,
                         "Run the i-th of N contiguous blocks of cases (0 <= i < N); no figures; "
                         "summaries of shards 0..N-1 concatenate ('merge' joins them)")
@@ -425,7 +428,7 @@ int CommandLine::run(std::ostream& out, std::ostream& err) {
 
   if (suite_cmd->parsed() || study_cmd->parsed()) {
     const bool is_study = study_cmd->parsed();
-    const Suite suite = is_study ? load_study(study_file, SuiteParams{quick, scenes_dir})
+    const Suite suite = is_study ? load_study(study_file, SuiteParams{quick, scenes_dir, study_sample})
                                  : make_suite(suite_name, SuiteParams{quick, scenes_dir});
     if (is_study) suite_name = suite.name;
     const char* kind = is_study ? "study " : "suite ";

@@ -21,6 +21,7 @@
 #include "experiments/output/csv_writer.hpp"
 #include "experiments/output/data_dir.hpp"
 #include "experiments/scene/ocp_scene.hpp"
+#include "experiments/scene/scene_table.hpp"
 #include "experiments/input/scene_reader.hpp"
 #include "experiments/input/toml_reader.hpp"
 #include "experiments/systems/systems.hpp"
@@ -107,9 +108,14 @@ Horizon make_horizon(double h, double t_final, std::int64_t output_every, LastSt
 }
 
 Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneOverrides& overrides) {
+  const toml::table doc = TomlReader(file.string()).parse(toml_text, "scene");
+  return parse_scene_table(doc, toml_text, file, overrides);
+}
+
+Scene parse_scene_table(const toml::table& doc, std::string_view toml_text, const fs::path& file,
+                        const SceneOverrides& overrides) {
   const std::string file_name = file.string();
   const TomlReader r(file_name);
-  const toml::table doc = r.parse(toml_text, "scene");
 
   // Unknown keys first, everywhere: a misspelt key is the likeliest cause of a missing one.
   r.check_keys(doc, "", {"system", "description", "parameters", "initial", "integration", "control", "ocp"});
@@ -198,8 +204,9 @@ Scene parse_scene(std::string_view toml_text, const fs::path& file, const SceneO
   // [control] and would print a line on every run, and absent optional keys (form,
   // output_every, phase) would still pass unreported; an optional end marker cannot be told
   // missing from a file written without one.
-  if (const auto warning = truncation_warning(toml_text, file_name)) scene.warnings.push_back(*warning);
   scene.inputs = reader.inputs();
+  if (toml_text.empty()) return scene;  // a table made in memory (an ensemble's sample)
+  if (const auto warning = truncation_warning(toml_text, file_name)) scene.warnings.push_back(*warning);
   scene.text = std::make_shared<const std::string>(toml_text);
   return scene;
 }

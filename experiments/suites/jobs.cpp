@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "experiments/methods/simulate.hpp"
+#include "experiments/suites/ensemble.hpp"
 #include "experiments/systems/systems.hpp"
 
 namespace lgvi::experiments {
@@ -14,7 +15,8 @@ namespace lgvi::experiments {
 namespace fs = std::filesystem;
 
 Scene SimulateSpec::load(const fs::path& scenes_dir) const {
-  Scene scene = load_scene(resolve_scene(this->scene, scenes_dir), overrides);
+  Scene scene = sample ? sample->load(resolve_scene(this->scene, scenes_dir), overrides)
+                       : load_scene(resolve_scene(this->scene, scenes_dir), overrides);
   if (edit) edit->apply(scene);
   return scene;
 }
@@ -109,7 +111,9 @@ void SimulateJob::validate(const fs::path& scenes_dir) const {
 }
 
 double SimulateJob::expected_cost(const fs::path& scenes_dir) const {
-  const Scene scene = spec_.load(scenes_dir);
+  // A sample's steps are its file's (the laws change no horizon): the file alone is loaded.
+  const Scene scene =
+      spec_.sample ? load_scene(resolve_scene(spec_.scene, scenes_dir), spec_.overrides) : spec_.load(scenes_dir);
   const MethodInfo& kind = method_info(spec_.method);
   if (kind.fixed_step()) return static_cast<double>(scene.horizon.steps) * static_cast<double>(std::max<std::size_t>(1, kind.stages));
   const double rtol = spec_.options.rtol.value_or(1e-6);
@@ -124,6 +128,10 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
     // An edited scene outside the validated domain (e.g. an inertia past the triangle
     // inequality): a finding of an extremes sweep, not a crash.
     return {false, "rejected-input", e.what(), {{"variant", spec_.edit ? spec_.edit->description : std::string()}}};
+  } catch (const SceneError& e) {
+    if (!spec_.sample) throw;
+    // A drawn value the scene refuses (a normal law's negative mass): a finding of the ensemble.
+    return {false, "rejected-input", e.what(), {{"variant", std::string()}}};
   }
   const Scene& scene = *loaded;
   const MethodInfo& kind = method_info(spec_.method);
@@ -131,6 +139,9 @@ JobResult SimulateJob::run(const JobContext& ctx) const {
   SimulateOptions options{ctx.out_dir / (ctx.case_id + ".csv"), ctx.command_line, {}};
   const std::string variant = spec_.edit ? spec_.edit->description : std::string();
   if (!variant.empty()) options.extra_metadata.push_back({"variant", variant});
+  if (spec_.sample) {
+    for (const Field& f : spec_.sample->fields()) options.extra_metadata.push_back(f);
+  }
   if (reference_) {
     // Prepared before the case runs: a reference that fails fails the case before its CSV.
     (void)reference_->sample_at(0.0, ctx.scenes_dir);

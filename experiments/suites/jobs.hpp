@@ -27,9 +27,15 @@ struct SceneEdit {
   std::function<void(Scene&)> apply;    ///< may throw InvalidInput (recorded as "rejected-input")
 };
 
+class EnsembleSample;  // experiments/suites/ensemble.hpp
+
 struct SimulateSpec {
   std::string scene;  ///< name in the scenes directory
   SceneOverrides overrides;
+  /// An ensemble's sample: the scene file with the sample's drawn values in place (then
+  /// `overrides`, then `edit`); its fields (sample, seed, drawn values) go into the case's CSV
+  /// metadata. A drawn value the scene refuses is the case's status "rejected-input".
+  std::shared_ptr<const EnsembleSample> sample;
   std::optional<SceneEdit> edit;
   std::string method = "lgvi";
   MethodOptions options;
@@ -37,7 +43,8 @@ struct SimulateSpec {
   /// alone and repeated (SimulateJob::prepare_timing).
   bool timed = false;
 
-  /// Loads, overrides and edits the scene. Throws SceneError; InvalidInput from the edit.
+  /// Loads (the sample's scene, if any), overrides and edits the scene. Throws SceneError;
+  /// InvalidInput from the edit.
   Scene load(const std::filesystem::path& scenes_dir) const;
 };
 

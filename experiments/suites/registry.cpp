@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "experiments/suites/common.hpp"
+#include "experiments/suites/study.hpp"
 
 namespace lgvi::experiments {
 
@@ -32,6 +33,9 @@ const std::vector<SuiteEntry>& suite_registry() {
                    "decomposed vs not", suites::shooting_suite},
       {"ocp-comparison", "every optimal control method on the paper's examples, 8 starts (quick 2): own and replayed "
                          "cost and violation against CPU time", suites::ocp_comparison_suite},
+      {"ensemble-bodies", "200 random free bodies and 200 random heavy tops (quick 20 each): every metric's median, "
+                          "quantiles and failures over the samples, banded work-precision figures",
+       [](const SuiteParams& params) { return load_study(default_studies_dir() / "ensemble-bodies.toml", params); }},
       {"all", "every suite above, one subdirectory each (the README's main command runs it with --quick)",
        suites::all_suite},
   };

@@ -19,6 +19,8 @@
 #include "experiments/input/toml_reader.hpp"
 #include "experiments/suites/journal.hpp"
 #include "experiments/suites/common.hpp"
+#include "experiments/suites/ensemble.hpp"
+#include "experiments/suites/ensemble_statistics.hpp"
 #include "experiments/systems/systems.hpp"
 
 namespace lgvi::experiments {
@@ -31,10 +33,11 @@ namespace {
 /// Keys a study's top level may hold; all but name, description and quick may also be in [quick].
 constexpr std::string_view kTopKeys[] = {"name",    "description",      "scenes", "methods", "h",
                                          "steps",   "tolerances",       "horizons", "reference", "metrics",
-                                         "samples", "adaptive_samples", "probes", "quick"};
+                                         "samples", "adaptive_samples", "probes", "ensemble", "quick"};
 constexpr std::string_view kQuickKeys[] = {"scenes",  "methods",          "h",      "steps",   "tolerances", "horizons",
-                                           "reference", "metrics",        "samples", "adaptive_samples", "probes"};
-constexpr std::string_view kSceneKeys[] = {"scene", "horizons", "h", "steps", "tolerances"};
+                                           "reference", "metrics",        "samples", "adaptive_samples", "probes",
+                                           "ensemble"};
+constexpr std::string_view kSceneKeys[] = {"scene", "horizons", "h", "steps", "tolerances", "ensemble"};
 constexpr std::string_view kMethodKeys[] = {"method", "model", "where"};
 /// samples and adaptive_samples: rows per run, at most 10^7 (a case's CSV of 10^7 rows is about
 /// 2 GB; adaptive_samples = 10^13, a grid of more steps than a horizon may have, was refused
@@ -91,6 +94,8 @@ struct SceneEntry {
   FixedSweep fixed;
   std::vector<double> tolerances;
   std::string tolerances_field;
+  const toml::node* ensemble = nullptr;  ///< the scene table's own [ensemble] keys
+  std::string ensemble_field;
 };
 
 struct Reference {
@@ -320,6 +325,8 @@ SceneEntry read_scene(const StudyReader& r, const toml::node& n, const std::stri
       e.tolerances_field = field + ".tolerances";
       e.tolerances = tolerance_sweep(r, *tol, e.tolerances_field);
     }
+    e.ensemble = t->get("ensemble");
+    e.ensemble_field = field + ".ensemble";
   }
   return e;
 }
@@ -340,23 +347,8 @@ std::string tag_e(double x) {
 
 bool has(const std::vector<std::string>& v, std::string_view x) { return std::find(v.begin(), v.end(), x) != v.end(); }
 
-/// A metric's summary column, its axis label and its name in titles and file names.
-struct MetricView {
-  const char* metric;
-  const char* column;
-  const char* ylabel;
-  const char* what;
-  const char* file;
-};
-constexpr MetricView kMetricViews[] = {
-    {"final-error", "final_error", "final-state error (dimensionless)", "final-state error", "error"},
-    {"energy", "max_energy_error_relative", "max |E - E_0| / |E_0|", "max energy error", "energy"},
-    {"momentum", "max_momentum_drift_absolute", "max |m - m_0| (momentum unit)", "max momentum-map error", "momentum"},
-    {"orthogonality", "max_orthogonality_error", "max ||R^T R - I||_F", "max orthogonality error", "orthogonality"},
-};
-
 /// Levels of the cheapest-method tables.
-const std::vector<double> kLevels = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+const std::vector<double> kLevels(std::begin(kStudyLevels), std::end(kStudyLevels));
 
 /// Each method's finest run of a group: of its completed runs (one curve label: method, model
 /// and form), the one with the most evaluations (the smallest step or tightest tolerance).
@@ -389,7 +381,7 @@ SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics)
     for (const auto& [group, members] : groups) {
       const SummaryRow& first = *members.front();
       const std::string horizon = "T = " + suites::title_number(first, "t_final");
-      for (const MetricView& m : kMetricViews) {
+      for (const StudyMetricView& m : kStudyMetricViews) {
         if (!has(metrics, m.metric)) continue;
         std::string title = group + ": " + m.what + " over " + horizon + " vs cost";
         if (std::string_view(m.metric) == "final-error") title += " (reference: " + first.text("reference") + ")";
@@ -432,7 +424,7 @@ SuiteRenderer study_renderer(std::string name, std::vector<std::string> metrics)
                         "the written samples; the final-state error is against the reference named in "
                         "summary.csv.\n";
     bool any = false;
-    for (const MetricView& m : kMetricViews) {
+    for (const StudyMetricView& m : kStudyMetricViews) {
       if (!has(metrics, m.metric) || std::string_view(m.metric) == "orthogonality") continue;
       table += std::string("\n## ") + m.what + "\n\n" + suites::cheapest_table(groups, m.column, m.what, kLevels);
       any = true;
@@ -588,9 +580,49 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
   if (timed) s.columns.insert(s.columns.end(), suites::timing_columns().begin(), suites::timing_columns().end());
   if (has(metrics, "momentum")) s.columns.push_back("momentum_map");
 
+  // Ensembles: the top level's [ensemble], quick.ensemble's keys over it in the quick form, a
+  // scene table's own keys over both; each scene's laws checked against its file.
+  struct SceneEnsemble {
+    std::optional<EnsembleLaws> laws;
+    std::shared_ptr<const toml::table> doc;  ///< the scene file's table
+  };
+  std::vector<SceneEnsemble> ensembles;
+  std::optional<std::int64_t> ensemble_samples;  // the fewest samples of a scene (--sample's range)
+  for (const SceneEntry& e : scenes) {
+    SceneEnsemble se;
+    const std::vector<EnsembleLayer> layers = {
+        {doc.get("ensemble"), "ensemble"},
+        {params.quick && quick != nullptr ? quick->get("ensemble") : nullptr, "quick.ensemble"},
+        {e.ensemble, e.ensemble_field}};
+    if (std::any_of(layers.begin(), layers.end(), [](const EnsembleLayer& l) { return l.node != nullptr; })) {
+      se.laws = read_ensemble(r, layers);
+      se.doc = std::make_shared<const toml::table>(TomlReader(e.scene->file.string()).parse(*e.scene->text, "scene"));
+      check_ensemble(r, *se.laws, *e.scene, *se.doc);
+      ensemble_samples = std::min(ensemble_samples.value_or(se.laws->samples), se.laws->samples);
+      if (!has(s.columns, "sample")) {
+        s.columns.push_back("sample");
+        s.columns.push_back("sample_seed");
+      }
+      for (const std::string& c : drawn_columns(*se.laws)) {
+        if (!has(s.columns, c)) s.columns.push_back(c);
+      }
+    }
+    ensembles.push_back(std::move(se));
+  }
+  if (params.sample) {
+    if (!ensemble_samples) throw InvalidInput("--sample", "the study " + file_name + " has no [ensemble]");
+    if (static_cast<std::int64_t>(*params.sample) >= *ensemble_samples) {
+      throw InvalidInput("--sample", "must be a sample of the study: an integer in [0, " +
+                                         std::to_string(*ensemble_samples - 1) + "] (got " +
+                                         std::to_string(*params.sample) + ")");
+    }
+  }
+
   std::set<std::string> ids;
   std::set<std::string> applied;  // the methods with a case
-  for (const SceneEntry& e : scenes) {
+  for (std::size_t scene_index = 0; scene_index < scenes.size(); ++scene_index) {
+    const SceneEntry& e = scenes[scene_index];
+    const SceneEnsemble& ensemble = ensembles[scene_index];
     if (reference.kind == Reference::Kind::Exact) {
       std::string why_not;
       if (!ExactReference::of(e.scene->model, &why_not)) {
@@ -605,117 +637,134 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
     const FixedSweep& sweep = !e.fixed.field.empty() ? e.fixed : fixed;
     const std::vector<double>& scene_tolerances = !e.tolerances.empty() ? e.tolerances : tolerances;
 
+    // The samples of this scene: all of them, only --sample's, or one nominal run.
+    std::vector<std::shared_ptr<const EnsembleSample>> draws;
+    if (ensemble.laws) {
+      const auto first = params.sample ? *params.sample : std::size_t{0};
+      const auto end = params.sample ? first + 1 : static_cast<std::size_t>(ensemble.laws->samples);
+      for (std::size_t k = first; k < end; ++k) {
+        draws.push_back(std::make_shared<const EnsembleSample>(ensemble.doc, *ensemble.laws, *e.scene, k));
+      }
+    } else {
+      draws.push_back(nullptr);
+    }
     for (const double T : scene_horizons) {
-      const std::string group = scene_horizons.size() > 1 ? e.name + "-T" + tag_g(T) : e.name;
-      const std::string id_prefix = group + "-";
-      // A horizon and step the harness accepts (a whole number of steps), named in the study.
-      const auto horizon_of = [&](double h, const std::string& field) {
-        try {
-          return make_horizon(h, T, 1, e.scene->last_step);
-        } catch (const InvalidInput& err) {
-          r.fail(field, "horizon T = " + format_number(T) + " of scene '" + e.name + "' with h = " + format_number(h) +
-                            ": " + reason_of(err) +
-                            (field == scene_horizons_field ? "" : " (horizons from " + (scene_horizons_field.empty() ? std::string("the scene file") : scene_horizons_field) + ")"));
-        }
-      };
+      for (const std::shared_ptr<const EnsembleSample>& sample : draws) {
+        const std::string group = scene_horizons.size() > 1 ? e.name + "-T" + tag_g(T) : e.name;
+        const std::string id_prefix = group + "-" + (sample ? "s" + std::to_string(sample->index()) + "-" : "");
+        // A horizon and step the harness accepts (a whole number of steps), named in the study.
+        const auto horizon_of = [&](double h, const std::string& field) {
+          try {
+            return make_horizon(h, T, 1, e.scene->last_step);
+          } catch (const InvalidInput& err) {
+            r.fail(field, "horizon T = " + format_number(T) + " of scene '" + e.name + "' with h = " + format_number(h) +
+                              ": " + reason_of(err) +
+                              (field == scene_horizons_field ? "" : " (horizons from " + (scene_horizons_field.empty() ? std::string("the scene file") : scene_horizons_field) + ")"));
+          }
+        };
 
-      std::shared_ptr<const ReferenceRun> ref;
-      const bool exact_here = reference.kind != Reference::Kind::ExactOrNone || ExactReference::of(e.scene->model);
-      if (reference.kind != Reference::Kind::None && exact_here) {
-        SimulateSpec spec;
-        spec.scene = e.arg;
-        spec.overrides.t_final = T;
-        spec.method = reference.method.empty() ? "lgvi" : reference.method;
-        spec.options = reference.options;
-        if (reference.kind == Reference::Kind::Exact || reference.kind == Reference::Kind::ExactOrNone ||
-            spec.options.rtol) {
-          spec.overrides.h = T;  // one output interval: only the final state is compared
-          spec.overrides.output_every = 1;
+        std::shared_ptr<const ReferenceRun> ref;
+        const bool exact_here = reference.kind != Reference::Kind::ExactOrNone || ExactReference::of(e.scene->model);
+        if (reference.kind != Reference::Kind::None && exact_here) {
+          SimulateSpec spec;
+          spec.scene = e.arg;
+          spec.sample = sample;
+          spec.overrides.t_final = T;
+          spec.method = reference.method.empty() ? "lgvi" : reference.method;
+          spec.options = reference.options;
+          if (reference.kind == Reference::Kind::Exact || reference.kind == Reference::Kind::ExactOrNone ||
+              spec.options.rtol) {
+            spec.overrides.h = T;  // one output interval: only the final state is compared
+            spec.overrides.output_every = 1;
+          } else {
+            const double h = reference.steps ? T / static_cast<double>(*reference.steps) : *reference.h;
+            const Horizon hz = horizon_of(h, reference.field + (reference.steps ? ".steps" : ".h"));
+            spec.overrides.h = h;
+            spec.overrides.output_every = static_cast<std::int64_t>(hz.steps);
+          }
+          ref = reference.kind == Reference::Kind::Run ? std::make_shared<const ReferenceRun>(spec)
+                                                       : ReferenceRun::exact_or_run(spec, params.scenes_dir);
+        }
+
+        // The fixed steps of this horizon with their case-id tags, largest h first for the probes.
+        struct Step {
+          double h;
+          std::size_t steps;
+          std::string tag;
+        };
+        std::vector<Step> steps;
+        if (!sweep.steps.empty()) {
+          for (const std::int64_t n : sweep.steps) {
+            const double h = T / static_cast<double>(n);
+            (void)horizon_of(h, sweep.field);
+            steps.push_back({h, static_cast<std::size_t>(n), "n" + std::to_string(n)});
+          }
         } else {
-          const double h = reference.steps ? T / static_cast<double>(*reference.steps) : *reference.h;
-          const Horizon hz = horizon_of(h, reference.field + (reference.steps ? ".steps" : ".h"));
-          spec.overrides.h = h;
-          spec.overrides.output_every = static_cast<std::int64_t>(hz.steps);
+          const std::vector<double> hs = !sweep.h.empty() ? sweep.h : std::vector<double>{e.scene->horizon.h};
+          const std::string field = !sweep.h.empty() ? sweep.field : scene_horizons_field;
+          for (const double h : hs) {
+            const Horizon hz = horizon_of(h, field.empty() ? e.field : field);
+            steps.push_back({h, hz.steps, "h" + tag_g(h)});
+          }
         }
-        ref = reference.kind == Reference::Kind::Run ? std::make_shared<const ReferenceRun>(spec)
-                                                     : ReferenceRun::exact_or_run(spec, params.scenes_dir);
-      }
+        std::vector<double> by_size;
+        for (const Step& st : steps) by_size.push_back(st.h);
+        std::sort(by_size.rbegin(), by_size.rend());
+        const auto is_probe = [&](double h) {
+          const auto rank = static_cast<std::size_t>(std::find(by_size.begin(), by_size.end(), h) - by_size.begin());
+          return rank < probes;
+        };
 
-      // The fixed steps of this horizon with their case-id tags, largest h first for the probes.
-      struct Step {
-        double h;
-        std::size_t steps;
-        std::string tag;
-      };
-      std::vector<Step> steps;
-      if (!sweep.steps.empty()) {
-        for (const std::int64_t n : sweep.steps) {
-          const double h = T / static_cast<double>(n);
-          (void)horizon_of(h, sweep.field);
-          steps.push_back({h, static_cast<std::size_t>(n), "n" + std::to_string(n)});
+        const auto add = [&](SuiteCase c) {
+          if (!ids.insert(c.id).second) {
+            r.fail(e.field, "makes the case '" + c.id + "' twice (a scene and horizon listed twice?)");
+          }
+          for (Field& f : c.labels) {
+            if (f.key == "scene") f.value = e.name;
+          }
+          if (sample) c.labels.insert(c.labels.end(), sample->fields().begin(), sample->fields().end());
+          c.group = group;
+          s.cases.push_back(std::move(c));
+        };
+        // A method applies to the systems its traits name (a splitting: the separable ones); it
+        // is left out of the other scenes, and refused below if it applies to none.
+        const std::string system = e.scene->system();
+        for (const MethodSpec& m : fixed_methods) {
+          if (!m.info->applies_to(system)) continue;
+          applied.insert(m.method);
+          // A first-order method (Lie-Euler: explicit, its energy grows by (1 + h^2 |Omega|^2)^(1/2)
+          // a step on these undamped systems) may overflow on a long horizon at any step: a probe
+          // at every step.
+          const bool first_order = m.info->order == 1;
+          for (const Step& st : steps) {
+            SimulateSpec spec;
+            spec.scene = e.arg;
+            spec.sample = sample;
+            spec.overrides.t_final = T;
+            spec.overrides.h = st.h;
+            spec.overrides.output_every =
+                static_cast<std::int64_t>(std::max<std::size_t>(1, st.steps / static_cast<std::size_t>(samples)));
+            spec.timed = timed;
+            add(suites::simulate_case(id_prefix + m.id() + "-" + st.tag, group, spec, m,
+                                      is_probe(st.h) || first_order ? Expectation::Either : Expectation::Complete,
+                                      ref));
+          }
         }
-      } else {
-        const std::vector<double> hs = !sweep.h.empty() ? sweep.h : std::vector<double>{e.scene->horizon.h};
-        const std::string field = !sweep.h.empty() ? sweep.field : scene_horizons_field;
-        for (const double h : hs) {
-          const Horizon hz = horizon_of(h, field.empty() ? e.field : field);
-          steps.push_back({h, hz.steps, "h" + tag_g(h)});
-        }
-      }
-      std::vector<double> by_size;
-      for (const Step& st : steps) by_size.push_back(st.h);
-      std::sort(by_size.rbegin(), by_size.rend());
-      const auto is_probe = [&](double h) {
-        const auto rank = static_cast<std::size_t>(std::find(by_size.begin(), by_size.end(), h) - by_size.begin());
-        return rank < probes;
-      };
-
-      const auto add = [&](SuiteCase c) {
-        if (!ids.insert(c.id).second) {
-          r.fail(e.field, "makes the case '" + c.id + "' twice (a scene and horizon listed twice?)");
-        }
-        for (Field& f : c.labels) {
-          if (f.key == "scene") f.value = e.name;
-        }
-        c.group = group;
-        s.cases.push_back(std::move(c));
-      };
-      // A method applies to the systems its traits name (a splitting: the separable ones); it
-      // is left out of the other scenes, and refused below if it applies to none.
-      const std::string system = e.scene->system();
-      for (const MethodSpec& m : fixed_methods) {
-        if (!m.info->applies_to(system)) continue;
-        applied.insert(m.method);
-        // A first-order method (Lie-Euler: explicit, its energy grows by (1 + h^2 |Omega|^2)^(1/2)
-        // a step on these undamped systems) may overflow on a long horizon at any step: a probe
-        // at every step.
-        const bool first_order = m.info->order == 1;
-        for (const Step& st : steps) {
-          SimulateSpec spec;
-          spec.scene = e.arg;
-          spec.overrides.t_final = T;
-          spec.overrides.h = st.h;
-          spec.overrides.output_every =
-              static_cast<std::int64_t>(std::max<std::size_t>(1, st.steps / static_cast<std::size_t>(samples)));
-          spec.timed = timed;
-          add(suites::simulate_case(id_prefix + m.id() + "-" + st.tag, group, spec, m,
-                                    is_probe(st.h) || first_order ? Expectation::Either : Expectation::Complete,
-                                    ref));
-        }
-      }
-      for (MethodSpec m : adaptive_methods) {
-        if (!m.info->applies_to(system)) continue;
-        applied.insert(m.method);
-        for (const double rtol : scene_tolerances) {
-          m.rtol = rtol;
-          SimulateSpec spec;
-          spec.scene = e.arg;
-          spec.overrides.t_final = T;
-          spec.overrides.h = T / static_cast<double>(adaptive_samples);  // the output grid
-          spec.overrides.output_every = 1;
-          spec.timed = timed;
-          add(suites::simulate_case(id_prefix + m.id() + "-rtol" + tag_e(rtol), group, spec, m, Expectation::Complete,
-                                    ref));
+        for (MethodSpec m : adaptive_methods) {
+          if (!m.info->applies_to(system)) continue;
+          applied.insert(m.method);
+          for (const double rtol : scene_tolerances) {
+            m.rtol = rtol;
+            SimulateSpec spec;
+            spec.scene = e.arg;
+            spec.sample = sample;
+            spec.overrides.t_final = T;
+            spec.overrides.h = T / static_cast<double>(adaptive_samples);  // the output grid
+            spec.overrides.output_every = 1;
+            spec.timed = timed;
+            add(suites::simulate_case(id_prefix + m.id() + "-rtol" + tag_e(rtol), group, spec, m, Expectation::Complete,
+                                      ref));
+          }
         }
       }
     }
@@ -733,7 +782,7 @@ Suite parse_study(std::string_view toml_text, const fs::path& file, const SuiteP
   // is warned about; a cut at a line boundary is refused by the shipped studies' order (their
   // last line is a required key; experiments/studies/README.md, "A file cut short").
   if (const auto warning = truncation_warning(toml_text, file_name)) s.warnings.push_back(*warning);
-  s.render = study_renderer(s.name, metrics);
+  s.render = ensemble_samples ? ensemble_renderer(s.name, metrics) : study_renderer(s.name, metrics);
   return s;
 }
 

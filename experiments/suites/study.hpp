@@ -23,6 +23,25 @@ namespace lgvi::experiments {
 /// Metrics a study can ask for (the `metrics` key).
 inline constexpr std::string_view kStudyMetrics[] = {"final-error", "energy", "momentum", "orthogonality", "time"};
 
+/// An error metric of a study (all but "time"): its summary column, its axis label and its name
+/// in titles and file names.
+struct StudyMetricView {
+  const char* metric;
+  const char* column;
+  const char* ylabel;
+  const char* what;
+  const char* file;
+};
+inline constexpr StudyMetricView kStudyMetricViews[] = {
+    {"final-error", "final_error", "final-state error (dimensionless)", "final-state error", "error"},
+    {"energy", "max_energy_error_relative", "max |E - E_0| / |E_0|", "max energy error", "energy"},
+    {"momentum", "max_momentum_drift_absolute", "max |m - m_0| (momentum unit)", "max momentum-map error", "momentum"},
+    {"orthogonality", "max_orthogonality_error", "max ||R^T R - I||_F", "max orthogonality error", "orthogonality"},
+};
+
+/// Levels of a study's cheapest-method tables.
+inline constexpr double kStudyLevels[] = {1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+
 /// Reads and validates the study file `file` and builds its cases; `params.quick` applies the
 /// file's [quick] table. Named scenes are looked up in params.scenes_dir, scene paths relative to
 /// the study file's directory. The suite is named after the study (`name`, default the file's

@@ -254,6 +254,16 @@ std::size_t timing_threads(unsigned jobs) {
   return std::max<std::size_t>(1, std::min<std::size_t>(jobs, cores));
 }
 
+std::string summary_cell(const std::string& text) {
+  std::string s = text;
+  for (char& c : s) {
+    if (c == ',') c = ';';
+    if (c == '\n' || c == '\r') c = ' ';
+    if (c == '"') c = '\'';
+  }
+  return s;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -276,18 +286,6 @@ std::string format_duration(double seconds) {
     std::snprintf(buf, sizeof buf, "%d min %02d s", static_cast<int>(seconds) / 60, static_cast<int>(seconds) % 60);
   }
   return buf;
-}
-
-/// A CSV cell: the summary is read by gnuplot and by read_summary_csv, which split on commas
-/// without quoting, so commas and line breaks inside values are replaced.
-std::string cell(const std::string& text) {
-  std::string s = text;
-  for (char& c : s) {
-    if (c == ',') c = ';';
-    if (c == '\n' || c == '\r') c = ' ';
-    if (c == '"') c = '\'';
-  }
-  return s;
 }
 
 /// The harness fields of an outcome, then the case's labels, then the job's fields (first
@@ -346,7 +344,7 @@ std::pair<std::string, std::string> summary_lines(const Suite& suite, const Suit
     if (j > 0) line += ",";
     if (it != f.end()) {
       const auto* d = std::get_if<double>(&it->value);
-      line += (d != nullptr && !std::isfinite(*d)) ? std::string() : cell(to_text(it->value));
+      line += (d != nullptr && !std::isfinite(*d)) ? std::string() : summary_cell(to_text(it->value));
     }
   }
   return {line, to_json(f)};

@@ -236,6 +236,8 @@ struct Suite {
 struct SuiteParams {
   bool quick = false;
   std::filesystem::path scenes_dir;
+  /// A study with an [ensemble]: only the cases of this sample (`study FILE --sample K`).
+  std::optional<std::size_t> sample = std::nullopt;
 };
 
 using SuiteFactory = std::function<Suite(const SuiteParams&)>;
@@ -328,6 +330,10 @@ SuiteResult run_suite(const Suite& suite, const SuiteOptions& options, std::ostr
 /// Reads OUT/summary.csv (of a run or of concatenated shards) and renders the suite's figures.
 /// Throws OutputError (missing or malformed summary, gnuplot failure).
 std::vector<std::filesystem::path> render_suite(const Suite& suite, const SuiteOptions& options);
+
+/// A summary.csv cell: the summary is read by gnuplot and by read_summary_csv, which split on
+/// commas without quoting, so commas become ';', line breaks spaces and double quotes single ones.
+std::string summary_cell(const std::string& text);
 
 /// Reads a summary.csv: header line, then rows. Throws OutputError.
 std::vector<SummaryRow> read_summary_csv(const std::filesystem::path& file);

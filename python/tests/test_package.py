@@ -147,6 +147,43 @@ def test_run_study_is_the_cli_study(tmp_path):
         lgvi.run_study(str(study), tmp_path / "y", formats="gif")
 
 
+@harness
+def test_run_study_returns_an_ensembles_rows_and_statistics_as_numpy_arrays(tmp_path):
+    study = tmp_path / "ens.toml"
+    study.write_text('name = "ens"\nscenes = [{ scene = "free-body", horizons = [0.5] }]\n'
+                     'methods = ["lgvi", "lgvi-yoshida4"]\nh = [0.05, 0.025]\nreference = "exact"\n'
+                     'metrics = ["final-error", "energy"]\nsamples = 5\n'
+                     'ensemble = { samples = 5, seed = 3, attitude = "uniform", moments = { range = [0.5, 2.0] }, '
+                     'omega = { norm = [1.0, 2.0] } }\n')
+    rows = lgvi.run_study(str(study), tmp_path / "py")
+    assert len(rows) == 20 and rows[0]["case"] == "free-body-s0-lgvi-h0.05"
+    assert rows.samples["sample"].dtype == float
+    assert list(rows.samples["sample"][::4]) == [0.0, 1.0, 2.0, 3.0, 4.0]
+    assert rows.samples["parameters.inertia[0]"].shape == (20,)
+    stats = rows.statistics
+    # Per method and step: one entry per metric that some row has.
+    error = (stats["metric"] == "final_error")
+    labels = list(stats["label"][error])
+    assert len(labels) == 4 and labels[0] == labels[1] != labels[2] == labels[3]
+    assert [float(h) for h in stats["h"][error]] == [0.05, 0.025, 0.05, 0.025]
+    assert (stats["samples"][error] == 5).all() and (stats["count"][error] == 5).all()
+    # The quantiles are numpy's default ones of the rows' values.
+    first = rows.samples["final_error"][0::4]
+    assert stats["median"][error][0] == pytest.approx(np.median(first), rel=1e-15)
+    assert stats["q95"][error][0] == pytest.approx(np.quantile(first, 0.95), rel=1e-15)
+    assert stats["max"][error][0] == first.max()
+    # Sample 2 alone: its rows again, equal bit for bit.
+    again = lgvi.run_study(str(study), tmp_path / "one", sample=2)
+    assert [r["case"] for r in again] == [r["case"] for r in rows[8:12]]
+    assert [r["final_error"] for r in again] == [r["final_error"] for r in rows[8:12]]
+    try:
+        import pandas  # noqa: F401
+    except ImportError:
+        assert rows.frame is None
+    else:
+        assert rows.frame.shape[0] == 20 and rows.statistics_frame.shape[0] == len(stats["metric"])
+
+
 # --- the CLI's bad options, from Python ---------------------------------------------------------
 # Each row: the CLI's arguments, the same call from Python, and the reason both must give (the
 # CLI names --option, Python the argument). The CLI exits 1 (bad input) with the reason on stderr.

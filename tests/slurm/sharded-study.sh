@@ -11,12 +11,12 @@
 # xargs -P instead (what the GNU parallel recipe of docs/suites.md does), so that the sharding
 # is still checked; LGVI_REQUIRE_SLURM=1 makes that a failure. KEEP=1 keeps the work directory.
 #
-#   bash tests/slurm/sharded-study.sh [BUILD_DIR] [STUDY.toml]   (default build-test, spacecraft-tumble.toml)
+#   bash tests/slurm/sharded-study.sh [BUILD_DIR] [STUDY.toml]   (default build-test, ensemble-bodies.toml)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 root=$PWD
 build=$(realpath "${1:-build-test}")
-study=$(realpath "${2:-experiments/studies/spacecraft-tumble.toml}")
+study=$(realpath "${2:-experiments/studies/ensemble-bodies.toml}")
 exe="$build/lgvi-testbed"
 shards=3
 [ -x "$exe" ] || { echo "sharded-study.sh: $exe not built" >&2; exit 1; }

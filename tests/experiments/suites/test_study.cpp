@@ -35,9 +35,8 @@ const std::vector<std::string> kTinyCases = {
     "free-body-lgvi-h0.01",          "free-body-lgvi-h0.005", "free-body-lgvi-yoshida4-h0.01",
     "free-body-lgvi-yoshida4-h0.005", "free-body-cvode-bdf-quaternion-rtol1e-08"};
 
-/// kTinyStudy with the first occurrence of `from` replaced by `to` (which must exist).
-std::string tiny_with(const std::string& from, const std::string& to) {
-  std::string text = kTinyStudy;
+/// kTinyStudy (or `text`) with the first occurrence of `from` replaced by `to` (which must exist).
+std::string tiny_with(const std::string& from, const std::string& to, std::string text = kTinyStudy) {
   const std::size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) text.replace(at, from.size(), to);
@@ -149,6 +148,54 @@ INSTANTIATE_TEST_SUITE_P(
         BadStudy{"bad_quick_value", kTinyStudy + "[quick]\ntolerances = [-1e-6]\n",
                  {"quick.tolerances[0]", "[1e-14, 0.1]"}, true},
         BadStudy{"unknown_quick_key", kTinyStudy + "[quick]\nname = \"x\"\n", {"quick.name", "unknown key"}}),
+    [](const ::testing::TestParamInfo<BadStudy>& info) { return std::string(info.param.what); });
+
+/// kTinyStudy as an ensemble of 4 random free bodies (experiments/studies/README.md, "The
+/// ensemble table"; the ensembles' runs: test_ensemble.cpp).
+const std::string kTinyEnsemble = kTinyStudy +
+                                  "ensemble.samples = 4\nensemble.seed = 7\nensemble.attitude = \"uniform\"\n"
+                                  "ensemble.omega = { norm = [1.0, 3.0] }\nensemble.moments = { range = [0.5, 2.0] }\n";
+/// kTinyEnsemble on another scene, graded against nothing.
+std::string tiny_ensemble_of(const std::string& scene) {
+  return tiny_with("scenes = [\"free-body\"]", "scenes = [\"" + scene + "\"]",
+                   tiny_with("reference = \"exact\"\nmetrics = [\"final-error\", \"energy\"]", "metrics = [\"energy\"]",
+                             kTinyEnsemble));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Ensemble, StudyBadInput,
+    ::testing::Values(
+        BadStudy{"no_samples", tiny_with("ensemble.samples = 4", "ensemble.samples = 0", kTinyEnsemble),
+                 {"ensemble.samples", "[1, 10000000]"}},
+        BadStudy{"no_seed", tiny_with("ensemble.seed = 7\n", "", kTinyEnsemble), {"ensemble.seed", "is required"}},
+        BadStudy{"empty_range", tiny_with("norm = [1.0, 3.0]", "norm = [3.0, 1.0]", kTinyEnsemble),
+                 {"ensemble.omega.norm", "empty range"}},
+        BadStudy{"negative_spread",
+                 tiny_with("ensemble.attitude = \"uniform\"",
+                           "ensemble.attitude = { law = \"about-nominal\", spread = -0.1 }", kTinyEnsemble),
+                 {"ensemble.attitude.spread", "negative spread"}},
+        BadStudy{"negative_standard_deviation",
+                 tiny_with("ensemble.omega = { norm = [1.0, 3.0] }",
+                           "ensemble.values = { \"initial.Omega[2]\" = { normal = [3.0, -1.0] } }", kTinyEnsemble),
+                 {"ensemble.values.\"initial.Omega[2]\".normal[1]", "negative spread"}},
+        BadStudy{"unknown_law", tiny_with("\"uniform\"", "\"gaussian\"", kTinyEnsemble),
+                 {"ensemble.attitude", "unknown law 'gaussian'"}},
+        BadStudy{"non_positive_moments", tiny_with("range = [0.5, 2.0]", "range = [0.0, 2.0]", kTinyEnsemble),
+                 {"ensemble.moments.range[0]", "must be > 0"}},
+        BadStudy{"moments_of_a_system_without_them", tiny_ensemble_of("dumbbell"),
+                 {"ensemble.moments", "dumbbell", "no [parameters] inertia"}},
+        BadStudy{"attitude_of_a_system_without_one",
+                 tiny_with("ensemble.moments = { range = [0.5, 2.0] }\n", "", tiny_ensemble_of("connected-bodies")),
+                 {"ensemble.attitude", "connected-bodies", "cannot take it"}},
+        BadStudy{"a_value_the_scene_file_does_not_give",
+                 kTinyEnsemble + "ensemble.values = { \"parameters.mass\" = { uniform = [1.0, 2.0] } }\n",
+                 {"ensemble.values.\"parameters.mass\"", "has no number at parameters.mass"}},
+        BadStudy{"a_value_drawn_twice",
+                 kTinyEnsemble + "ensemble.values = { \"initial.Omega[0]\" = { uniform = [1.0, 2.0] } }\n",
+                 {"ensemble.values.\"initial.Omega[0]\"", "is drawn by ensemble.omega already"}},
+        BadStudy{"unknown_key", kTinyEnsemble + "ensemble.sample = 3\n", {"ensemble.sample", "unknown key"}},
+        BadStudy{"quick_samples", kTinyEnsemble + "quick.ensemble.samples = -1\n",
+                 {"quick.ensemble.samples", "[1, 10000000]"}, true}),
     [](const ::testing::TestParamInfo<BadStudy>& info) { return std::string(info.param.what); });
 
 TEST(StudyBadInput, AMissingStudyFileIsNamed) {

@@ -96,7 +96,7 @@ TEST(StudyTruncation, NoCutOfAShippedStudyLoadsAsAnotherStudy) {
       }
     }
   }
-  EXPECT_EQ(files, 3u);
+  EXPECT_EQ(files, 4u);
   for (const auto& [kind, c] : {std::pair{"line-boundary", lines}, std::pair{"byte", bytes}}) {
     std::cout << "[ counts   ] " << kind << " cuts, both forms: " << c.errors << " errors, " << c.same
               << " the whole study, " << c.other << " another study\n";

@@ -46,7 +46,7 @@ Suite suite(const std::string& name, bool quick) {
 
 const std::vector<std::string> kSuites = {"energy-drift", "orthogonality", "momentum", "work-precision",
                                           "long-horizon", "extremes",      "soak",     "sensitivity",
-                                          "shooting",     "ocp-comparison"};
+                                          "shooting",     "ocp-comparison", "ensemble-bodies"};
 
 // --- case lists ----------------------------------------------------------------------------------
 
