@@ -6,7 +6,8 @@
 # joins the shards and `--render-only` draws them. The merged summary.csv and summary.jsonl must
 # equal a single-process run of the same study, timings aside (the fields whose names contain
 # "seconds" or "timing", or end in "detail", which quotes the time), and so must every
-# statistics table the two renderings write (NAME-statistics.csv).
+# statistics table the two renderings write (NAME-statistics.csv; its rows of timed metrics
+# aside).
 # If the cluster cannot start here, the reason is printed and the same shards run through
 # xargs -P instead (what the GNU parallel recipe of docs/suites.md does), so that the sharding
 # is still checked; LGVI_REQUIRE_SLURM=1 makes that a failure. KEEP=1 keeps the work directory.
@@ -75,6 +76,9 @@ def untimed_csv(path):
     meta = [l for l in lines if l.startswith("#")]
     rows = list(csv.reader(l for l in lines if not l.startswith("#")))
     keep = [j for j, n in enumerate(rows[0]) if not timed(n)] if rows else []
+    # the statistics' long form: one row per metric, named in the column `metric`
+    metric = rows[0].index("metric") if rows and "metric" in rows[0] else None
+    rows = [r for r in rows if metric is None or r is rows[0] or not timed(r[metric])]
     return meta, [[r[j] if j < len(r) else None for j in keep] for r in rows]
 def untimed_jsonl(path):
     return [{k: v for k, v in json.loads(l).items() if not timed(k)} for l in path.read_text().splitlines()]
