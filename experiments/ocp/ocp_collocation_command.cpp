@@ -170,7 +170,7 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
     }
     if constexpr (requires { B::collocation_columns; }) {
       // t, y, max | |q_i| - 1 |, u at the nodes
-      const int ny = static_cast<int>(result.states.rows());
+      const int ny = static_cast<int>(B::collocation_columns.size()) - B::nu;  // (no solution: no rows)
       std::vector<std::string> cols = {"t"};
       for (int i = 0; i < ny; ++i) cols.push_back(B::collocation_columns[static_cast<std::size_t>(i)]);
       cols.push_back("quaternion_norm_error");
