@@ -10,6 +10,7 @@
 
 #include "baselines/model.hpp"
 #include "baselines/solver.hpp"
+#include "lgvi/cpu_time.hpp"
 #include "lgvi/so3.hpp"
 
 namespace lgvi::baselines {
@@ -28,13 +29,6 @@ ReplayInterpolation replay_interpolation(LgviForm form) {
 }
 
 namespace {
-
-/// CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID), seconds.
-double thread_cpu_seconds() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 /// Number of intervals of c's nodes.
 Eigen::Index intervals_of(const ReplayControls& c) {

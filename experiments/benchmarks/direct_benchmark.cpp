@@ -1,13 +1,16 @@
 // Direct method (sections 4.1, 4.2): exact gradients (forward sensitivities through the
 // linearized LGVI) against central finite differences, per gradient and per SLSQP solve.
 // Then single shooting (SLSQP) against multiple shooting (IPOPT) and iLQR on free node controls
-// (DDP, lgvi/ocp/ddp.hpp), the connected bodies' multistart.
+// (DDP, lgvi/ocp/ddp.hpp), the connected bodies' multistart; and Hermite-Simpson collocation of
+// the continuous problems (lgvi/ocp/collocation.hpp). The speed targets read from this
+// table: docs/paper-examples.md ("The paper's claim, measured").
 // Counters: SQP iterations, LGVI simulations, final cost and violation of the solve. The ratios
 // (finite-difference / exact) of wall time and iterations are reported in lgvi/ocp/README.md.
 #include <benchmark/benchmark.h>
 
 #include <string>
 
+#include "lgvi/ocp/collocation.hpp"
 #include "lgvi/ocp/ddp.hpp"
 #include "lgvi/ocp/direct.hpp"
 
@@ -187,6 +190,31 @@ void BM_ConnectedBodiesDdpMultistart(benchmark::State& bench) {
   ddp_multistart(bench, ConnectedBodies::paper(), ocp::ConnectedBodiesTransfer::paper(), o);
 }
 
+// Hermite-Simpson collocation of the continuous problem (collocation.hpp) with K = range(0)
+// intervals from its one deterministic guess: iterations, the calling thread's CPU seconds of the
+// solve (also the CPU column), cost, terminal violation (the system's norm) and max defect.
+template <class System, class Transfer>
+void collocation(benchmark::State& bench, const System& system, const Transfer& problem) {
+  ocp::CollocationOptions o;
+  o.intervals = static_cast<int>(bench.range(0));
+  ocp::CollocationSummary last;
+  for (auto _ : bench) {
+    last = ocp::solve_collocation(system, problem, o).summary;
+    if (!last.converged()) bench.SkipWithError(last.brief().c_str());
+  }
+  bench.counters["iterations"] = last.iterations;
+  bench.counters["cpu_s"] = last.cpu_seconds;
+  bench.counters["cost"] = last.cost;
+  bench.counters["violation"] = last.violation;
+  bench.counters["max_defect"] = last.max_defect;
+}
+void BM_CartPendulumCollocation(benchmark::State& bench) {
+  collocation(bench, CartPendulum::paper(), ocp::CartPendulumTransfer::paper());
+}
+void BM_ConnectedBodiesCollocation(benchmark::State& bench) {
+  collocation(bench, ConnectedBodies::paper(), ocp::ConnectedBodiesTransfer::paper());
+}
+
 // Argument: 0 = exact gradients, 1 = central finite differences.
 BENCHMARK(BM_CartPendulumGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ConnectedBodiesGradient)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
@@ -202,6 +230,9 @@ BENCHMARK(BM_ConnectedBodiesMultistart)
     ->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_CartPendulumDdp)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_ConnectedBodiesDdpMultistart)->Unit(benchmark::kMillisecond)->Iterations(1);
+// Argument: K intervals (the CLI's default 100; 50 and 200 the suite's 2h and h/2).
+BENCHMARK(BM_CartPendulumCollocation)->Arg(50)->Arg(100)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_ConnectedBodiesCollocation)->Arg(50)->Arg(100)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 

@@ -1,11 +1,15 @@
 // `lgvi-testbed ocp SCENE --solver collocation`: the scene's transfer solved as the continuous
 // problem by Hermite-Simpson collocation of the quaternion model (lgvi/ocp/collocation.hpp), for
-// the attitude systems (pendulum, free body). Writes, atomically, into --out DIR:
+// every system with an optimal control problem (pendulum, free body, dumbbell, cart-pendulum,
+// connected bodies). Writes, atomically, into --out DIR:
 //   ocp-LABEL-history.csv     one row per IPOPT iteration (cost, constraint infeasibility)
-//   ocp-LABEL-trajectory.csv  t, R, Omega, q, |q| - 1 and u at the mesh nodes
-//   ocp-LABEL-summary.json    cost, violation (the indirect method's norm), max defect, |q| drift,
+//   ocp-LABEL-trajectory.csv  at the mesh nodes: the attitude systems t, R, Omega, q, |q| - 1, u;
+//                             the others t, the state y (OcpBinding::collocation_columns: the
+//                             quaternions, positions, velocities or momenta), max | |q| - 1 |, u
+//   ocp-LABEL-summary.json    cost, violation (the system's norm), max defect, |q| drift,
 //                             iterations, CPU time, and the replayed yardstick of the controls
 //                             (the quadratic through each interval's node, midpoint and node controls)
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -65,21 +69,19 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
                     std::ostream& out, std::ostream& err) {
   using B = OcpBinding<M>;
   if constexpr (!B::collocation) {
-    throw InvalidInput("--solver", std::string("collocation is implemented for the attitude transfers (pendulum, "
-                                               "free body) so far, not the ") +
-                                       M::name);
+    throw InvalidInput("--solver", std::string("collocation is not implemented for the ") + M::name);
   } else {
     const OcpDefinition& d = *scene.ocp;
     using O = ocp::CollocationOptions;
     O options;
-    options.W = d.indirect.W;
+    options.W = d.W();
     options.intervals =
         cmd.intervals ? ocp_output::option_int(*cmd.intervals, O::kIntervals, "--intervals") : kDefaultIntervals;
     if (cmd.tolerance) options.tolerance = ocp_output::option_number(*cmd.tolerance, O::kTolerance, "--tolerance");
     if (cmd.max_iterations) {
       options.max_iterations = ocp_output::option_int(*cmd.max_iterations, O::kMaxIterations, "--max-iterations");
     }
-    const ocp::TransferProblem problem = B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
+    const auto problem = B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
     const auto& system = ocp_output::with_sphere_radius(B::system(m), cmd.sphere_radius);
     const ocp::CollocationResult result = ocp::solve_collocation(system, problem, options);
     const ocp::CollocationSummary& S = result.summary;
@@ -166,7 +168,30 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
       }
       csv.commit(f);
     }
-    {
+    if constexpr (requires { B::collocation_columns; }) {
+      // t, y, max | |q_i| - 1 |, u at the nodes
+      const int ny = static_cast<int>(B::collocation_columns.size()) - B::nu;  // (no solution: no rows)
+      std::vector<std::string> cols = {"t"};
+      for (int i = 0; i < ny; ++i) cols.push_back(B::collocation_columns[static_cast<std::size_t>(i)]);
+      cols.push_back("quaternion_norm_error");
+      for (std::size_t i = static_cast<std::size_t>(ny); i < B::collocation_columns.size(); ++i) {
+        cols.push_back(B::collocation_columns[i]);
+      }
+      CsvWriter csv(files.trajectory, cols);
+      std::vector<double> row;
+      for (Eigen::Index k = 0; k < result.states.cols(); ++k) {
+        row.assign({static_cast<double>(k) * result.h});
+        double drift = 0.0;
+        for (int i = 0; i < ny; ++i) row.push_back(result.states(i, k));
+        for (int i = 0; i < B::collocation_quaternions; ++i) {  // the quaternions come first in y
+          drift = std::max(drift, std::abs(result.states.col(k).segment<4>(4 * i).norm() - 1.0));
+        }
+        row.push_back(drift);
+        for (Eigen::Index i = 0; i < result.controls.rows(); ++i) row.push_back(result.controls(i, 2 * k));
+        csv.write_row(row);
+      }
+      csv.commit(f);
+    } else {
       std::vector<std::string> cols = {"t"};
       for (char i = '1'; i <= '3'; ++i)
         for (char j = '1'; j <= '3'; ++j) cols.push_back(std::string("R") + i + j);
@@ -191,7 +216,7 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
       }
       csv.commit(f);
     }
-    write_json_object(files.summary, f, {{"W", ocp_output::weight_values(options.W, 3)}});
+    write_json_object(files.summary, f, {{"W", ocp_output::weight_values(options.W, B::nu)}});
     return ocp_output::finish(cmd, S, files, {files.history, files.trajectory, files.summary}, out, err);
   }
 }

@@ -134,12 +134,6 @@ std::size_t SuiteResult::unexpected() const {
       std::count_if(cases.begin(), cases.end(), [](const CaseOutcome& c) { return !c.as_expected; }));
 }
 
-double thread_cpu_seconds() {
-  timespec ts{};
-  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return std::numeric_limits<double>::quiet_NaN();
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 namespace {
 
 /// The repetitions of one timed computation so far.

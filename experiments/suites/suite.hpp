@@ -51,6 +51,7 @@
 #include "experiments/output/fields.hpp"
 #include "experiments/output/plot.hpp"
 #include "experiments/suites/journal.hpp"
+#include "lgvi/cpu_time.hpp"
 
 namespace lgvi::experiments {
 
@@ -133,9 +134,6 @@ struct Timing {
 /// one that threw: its error).
 std::vector<Timing> time_in_passes(const std::vector<std::function<TimedRun()>>& runs, const TimingPolicy& policy,
                                    const std::function<void(std::size_t, std::size_t)>& progress = {});
-
-/// CPU time consumed by the calling thread (clock_gettime(CLOCK_THREAD_CPUTIME_ID)), seconds.
-double thread_cpu_seconds();
 
 /// One runnable case. Jobs are shared between threads: run() is const and thread-safe.
 class Job {

@@ -2,11 +2,12 @@
 // lgvi/ocp/README.md "DDP").
 #include "lgvi/ocp/ddp.hpp"
 
+#include "lgvi/cpu_time.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <memory>
 #include <utility>
 
@@ -256,8 +257,6 @@ template class Ddp<ConnectedBodiesDirectModel>;
 
 namespace {
 
-double cpu_now() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
-
 // Regularization schedule of Tassa et al. 2012 (sec. II.F): rho is 0 or in [rho_min, rho_max];
 // increase: delta <- max(delta0, delta delta0), rho <- max(rho_min, rho delta); decrease:
 // delta <- min(1/delta0, delta/delta0), rho <- rho delta (0 below rho_min); delta0 = 1.6.
@@ -274,7 +273,7 @@ DdpStart run_start(const Ddp<Model>& ddp, const DdpOptions& o, int index, const 
   DdpStart st;
   st.index = index;
   st.initial_knots = knots;
-  const double cpu0 = cpu_now();
+  const double cpu0 = thread_cpu_seconds();
   typename D::Trajectory nominal = ddp.make_trajectory(), trial = ddp.make_trajectory();
   typename D::Gains gains = ddp.make_gains();
   nominal.controls = ddp.transcription().node_controls(knots);
@@ -284,7 +283,7 @@ DdpStart run_start(const Ddp<Model>& ddp, const DdpOptions& o, int index, const 
     st.cost = nominal.cost;
     st.violation = nominal.residual.norm();
     st.controls = nominal.controls;
-    st.cpu_seconds = cpu_now() - cpu0;
+    st.cpu_seconds = thread_cpu_seconds() - cpu0;
     if (status != DdpStatus::StepFailure && status != DdpStatus::NonFinite &&
         (!std::isfinite(st.cost) || !std::isfinite(st.violation) || !st.controls.allFinite())) {
       st.status = DdpStatus::NonFinite;
@@ -369,7 +368,7 @@ DdpStart run_start(const Ddp<Model>& ddp, const DdpOptions& o, int index, const 
     it.alpha = accepted ? alpha : 0.0;
     it.regularization = rho;
     it.penalty = mu;
-    it.seconds = cpu_now() - cpu0;
+    it.seconds = thread_cpu_seconds() - cpu0;
     history.push_back(it);
   }
   return finish(DdpStatus::MaxIterations, "");
@@ -384,7 +383,7 @@ DdpResult<Model> solve(const typename Model::System& system, const typename Mode
   S.form = options.form;
   S.h = options.h;
   const auto wall0 = std::chrono::steady_clock::now();
-  const double cpu0 = cpu_now();
+  const double cpu0 = thread_cpu_seconds();
   std::unique_ptr<Ddp<Model>> ddp;
   Eigen::VectorXd knots0;
   try {
@@ -442,7 +441,7 @@ DdpResult<Model> solve(const typename Model::System& system, const typename Mode
       result.controls = t.controls;
     }
   }
-  S.cpu_seconds = cpu_now() - cpu0;
+  S.cpu_seconds = thread_cpu_seconds() - cpu0;
   S.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return result;
 }

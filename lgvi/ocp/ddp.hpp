@@ -119,7 +119,7 @@ struct DdpIteration {
   double alpha = 0.0;
   double regularization = 0.0;
   double penalty = 0.0;
-  double seconds = 0.0;    ///< cumulative CPU time of the start
+  double seconds = 0.0;    ///< cumulative CPU time of the start (the calling thread's, lgvi/cpu_time.hpp)
 };
 
 struct DdpStart {
@@ -131,7 +131,7 @@ struct DdpStart {
   int iterations = 0;
   int outer_iterations = 0;
   long rollouts = 0;          ///< forward LGVI runs (incl. rejected line-search trials)
-  double cpu_seconds = 0.0;
+  double cpu_seconds = 0.0;   ///< the calling thread's CPU time (lgvi/cpu_time.hpp)
   Eigen::VectorXd initial_knots;
   Eigen::MatrixXd controls;   ///< n_u x (N+1) at the end
 };
@@ -151,7 +151,7 @@ struct DdpSummary {
   double violation = std::numeric_limits<double>::infinity();  ///< full terminal condition
   Eigen::VectorXd residual;  ///< full terminal residual at the end
   double wall_seconds = 0.0;
-  double cpu_seconds = 0.0;
+  double cpu_seconds = 0.0;  ///< the calling thread's CPU time, all starts (lgvi/cpu_time.hpp)
   std::vector<DdpIteration> history;
   std::vector<DdpStart> starts;
   int best_start = -1;       ///< position in `starts` of the start reported

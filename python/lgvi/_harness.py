@@ -32,7 +32,7 @@ def solve_ocp(problem: "Union[str, lgvi.Scene]", *, W: "Optional[numpy.typing.Ar
     lm_damping, nonmonotone_memory, guess (lambda_0), sphere_radius (dumbbell); direct: solver
     ('slsqp', 'ipopt', 'ddp'), max_iterations (evaluations), tolerance, knots, spline, gradients,
     starts, seed, first_start, hessian, state_guess, shooting_interval; solver='collocation'
-    (continuous Hermite-Simpson on the quaternion model, the attitude transfers): intervals,
+    (continuous Hermite-Simpson on the quaternion model, every system with an [ocp] table): intervals,
     tolerance, max_iterations. out: keep the files in this directory (default: a temporary one,
     removed).
 

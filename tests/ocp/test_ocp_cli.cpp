@@ -209,6 +209,28 @@ TEST(OcpCli, EverySummaryCarriesTheReplayedYardstick) {
   }
 }
 
+TEST(OcpCli, CollocationOfTheMultibodySystemsWritesTheStateAndTheReplay) {
+  TempDir dir;
+  const CliResult r =
+      run_testbed(dir, {"ocp", "cart-pendulum", "--solver", "collocation", "--intervals", "20", "--out", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const fs::path out = dir.work() / "out";
+  const std::string json = read_text(out / "ocp-cart-pendulum-summary.json");
+  for (const char* key : {"\"solver\": \"collocation\"", "\"status\": \"converged\"", "\"violation_velocity\"",
+                          "\"replay_interpolation\": \"piecewise-quadratic\"", "\"replay_status\": \"ok\""}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key << " not in " << json;
+  }
+  const std::vector<std::string> rows = lines_of(read_text(out / "ocp-cart-pendulum-trajectory.csv"));
+  std::size_t data = 0;
+  bool header = false;
+  for (const std::string& line : rows) {
+    if (line.rfind("t,q0,q1,q2,q3,x,y,Pi1,Pi2,Pi3,px,py,quaternion_norm_error,ux,uy", 0) == 0) header = true;
+    if (!line.empty() && line[0] != '#' && line.rfind("t,", 0) != 0) ++data;
+  }
+  EXPECT_TRUE(header);
+  EXPECT_EQ(data, 21u);  // nodes 0..20
+}
+
 TEST(OcpCli, CollocationWritesItsFilesAndRefusesTheDiscreteOptions) {
   TempDir dir;
   const CliResult r = run_testbed(dir, {"ocp", "pendulum", "--solver", "collocation", "--intervals", "20", "--out", "out"});
@@ -231,7 +253,8 @@ TEST(OcpCli, CollocationWritesItsFilesAndRefusesTheDiscreteOptions) {
         std::pair{std::vector<std::string>{"ocp", "pendulum", "--solver", "collocation", "--intervals", "1", "--out", "."},
                   "--intervals"},
         std::pair{std::vector<std::string>{"ocp", "pendulum", "--intervals", "10", "--out", "."}, "--intervals"},
-        std::pair{std::vector<std::string>{"ocp", "cart-pendulum", "--solver", "collocation", "--out", "."}, "--solver"}}) {
+        std::pair{std::vector<std::string>{"ocp", "cart-pendulum", "--solver", "collocation", "--knots", "5", "--out", "."},
+                  "--knots"}}) {
     TempDir bad;
     const CliResult e = run_testbed(bad, args);
     EXPECT_EQ(e.exit_code, 1) << e.err;

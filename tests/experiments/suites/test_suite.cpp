@@ -1094,11 +1094,11 @@ class TimedToyJob final : public experiments::Job {
         ++shared_.violations;
       }
       const auto start = std::chrono::steady_clock::now();
-      const double cpu = experiments::thread_cpu_seconds();
+      const double cpu = lgvi::thread_cpu_seconds();
       while (std::chrono::steady_clock::now() - start < std::chrono::microseconds(500)) {
       }
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const double cpu_used = experiments::thread_cpu_seconds() - cpu;
+      const double cpu_used = lgvi::thread_cpu_seconds() - cpu;
       --shared_.timing;
       if (alone_) --shared_.alone_timing;
       return experiments::TimedRun{wall, cpu_used, 0.0};
