@@ -8,9 +8,9 @@
 # "seconds" or "timing", or end in "detail", which quotes the time), and so must every
 # statistics table the two renderings write (NAME-statistics.csv; its rows of timed metrics
 # aside).
-# If the cluster cannot start here, the reason is printed and the same shards run through
-# xargs -P instead (what the GNU parallel recipe of docs/suites.md does), so that the sharding
-# is still checked; LGVI_REQUIRE_SLURM=1 makes that a failure. KEEP=1 keeps the work directory.
+# If the cluster cannot start here, the reason is printed and the job script's tasks run
+# through xargs -P instead, given the variables SLURM would set (what the GNU parallel recipe of
+# docs/suites.md does), so that the sharding and the job script are still checked; LGVI_REQUIRE_SLURM=1 makes that a failure. KEEP=1 keeps the work directory.
 #
 #   bash tests/slurm/sharded-study.sh [BUILD_DIR] [STUDY.toml]   (default build-test, ensemble-bodies.toml)
 set -euo pipefail
@@ -44,9 +44,10 @@ run_array() {  # every shard of the array through SLURM, or through xargs when S
       return 1
     fi
   else
-    seq 0 $(( shards - 1 )) | xargs -P 2 -I{} sh -c \
-      'r=""; [ -f "$4/shard-$1/suite-run.json" ] && r=--resume; exec "$2" study "$3" --quick --shard "$1/$5" --out "$4/shard-$1" $r' \
-      _ {} "$exe" "$study" "$work/out" "$shards"
+    # the same job script, given the variables SLURM would set for task {}
+    seq 0 $(( shards - 1 )) | LGVI_TESTBED="$exe" SLURM_ARRAY_TASK_COUNT=$shards SLURM_ARRAY_TASK_MIN=0 \
+      SLURM_ARRAY_TASK_MAX=$(( shards - 1 )) xargs -P 2 -I{} env SLURM_ARRAY_TASK_ID={} \
+      bash "$root/experiments/studies/slurm-array.sh" study "$study" "$work/out" --quick
   fi
 }
 
