@@ -52,7 +52,6 @@ void check_collocation_options(const OcpCommand& cmd) {
       {"--starts", cmd.starts.has_value()},
       {"--seed", cmd.seed.has_value()},
       {"--first-start", cmd.first_start != 0},
-      {"--hessian", cmd.hessian.has_value()},
       {"--state-guess", cmd.state_guess.has_value()},
       {"--shooting-interval", cmd.shooting_interval.has_value()},
   };
@@ -81,6 +80,7 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
     if (cmd.max_iterations) {
       options.max_iterations = ocp_output::option_int(*cmd.max_iterations, O::kMaxIterations, "--max-iterations");
     }
+    if (cmd.hessian) options.hessian = ocp_output::option_hessian(*cmd.hessian);
     const auto problem = B::transfer(m, std::get<typename M::State>(d.target), scene.horizon.t_final);
     const auto& system = ocp_output::with_sphere_radius(B::system(m), cmd.sphere_radius);
     const ocp::CollocationResult result = ocp::solve_collocation(system, problem, options);
@@ -90,7 +90,12 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
     const ocp_output::Files files = ocp_output::create_files(cmd, run.label);
     Fields f = {
         {"system", run.system},
-        {"method", std::string("continuous: Hermite-Simpson collocation of the quaternion model, IPOPT (L-BFGS)")},
+        {"method", std::string("continuous: Hermite-Simpson collocation of the quaternion model, IPOPT (") +
+                       (options.hessian == ocp::IpoptHessian::LimitedMemory ? "L-BFGS"
+                        : options.hessian == ocp::IpoptHessian::Exact       ? "exact Hessian"
+                                                                             : "the cost's Hessian") +
+                       ")"},
+        {"hessian", std::string(ocp::to_string(options.hessian))},
         {"solver", std::string("collocation")},
         {"intervals", std::int64_t{S.intervals}},
         {"h", result.h},
@@ -144,6 +149,7 @@ int collocation_for(const Scene& scene, const M& m, const OcpCommand& cmd, const
         {"variables", std::int64_t{S.variables}},
         {"constraints", std::int64_t{S.constraints}},
         {"jacobian_nonzeros", std::int64_t{S.jacobian_nonzeros}},
+        {"hessian_nonzeros", std::int64_t{S.hessian_nonzeros}},
         {"wall_seconds", S.wall_seconds},
         {"cpu_seconds", S.cpu_seconds},
     };

@@ -240,15 +240,16 @@ CLI::App* add_ocp_command(CLI::App& app, OcpCommand& o) {
   cmd->add_option("--solver", o.solver,
                   "Direct method: slsqp (the paper's single shooting) | ipopt (multiple shooting) | ddp (iLQR on free "
                   "node controls, augmented Lagrangian); any scene: collocation (Hermite-Simpson on the continuous "
-                  "quaternion model, IPOPT; pendulum and free body)");
+                  "quaternion model, IPOPT; every system with an optimal control problem)");
   cmd->add_option("--intervals", o.intervals,
                   "--solver collocation: mesh intervals, in " + ocp::CollocationOptions::kIntervals.text() +
                       " (default 100)")
       ->transform(integer_text());
   cmd->add_option("--hessian", o.hessian,
-                  "Direct method, --solver ipopt: limited-memory (L-BFGS) | cost (the cost's exact Hessian, "
-                  "constraint curvature left out) | exact (Hessian of the Lagrangian by forward differences of its "
-                  "exact gradient, columns grouped by colour)");
+                  "--solver ipopt and collocation: limited-memory (L-BFGS; ipopt's default) | cost (the cost's exact "
+                  "Hessian, constraint curvature left out) | exact (Hessian of the Lagrangian: ipopt by forward "
+                  "differences of its exact gradient, columns grouped by colour; collocation's default, by central "
+                  "differences of the rate's exact Jacobian at each collocation point)");
   cmd->add_option("--state-guess", o.state_guess,
                   "Direct method, --solver ipopt: initial states, geodesic (between the boundary states) | "
                   "simulated (the guess control's run)");

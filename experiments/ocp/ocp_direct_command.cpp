@@ -393,13 +393,7 @@ int run_direct_for(const Scene& scene, const M& m, const OcpCommand& cmd, const 
       options.shooting_interval =
           ocp_output::option_int(*cmd.shooting_interval, O::kShootingInterval, "--shooting-interval");
     }
-    if (cmd.hessian) {
-      try {
-        options.ipopt_hessian = ocp::parse_ipopt_hessian(*cmd.hessian);
-      } catch (const InvalidInput&) {
-        throw InvalidInput("--hessian", "must be 'limited-memory', 'cost' or 'exact' (got '" + *cmd.hessian + "')");
-      }
-    }
+    if (cmd.hessian) options.ipopt_hessian = ocp_output::option_hessian(*cmd.hessian);
     if (cmd.state_guess) {
       try {
         options.state_guess = ocp::parse_shooting_state_guess(*cmd.state_guess);

@@ -25,6 +25,7 @@
 #include "experiments/scene/ocp_scene.hpp"
 #include "experiments/input/paper_values.hpp"
 #include "lgvi/lgvi.hpp"
+#include "lgvi/ocp/direct.hpp"
 #include "lgvi/systems/dumbbell.hpp"
 
 namespace lgvi::experiments::ocp_output {
@@ -96,6 +97,14 @@ inline int option_int(long long value, const Range& range, const char* option) {
 inline double option_number(double value, const Range& range, const char* option) {
   range.require(value, option);
   return value;
+}
+/// --hessian's value (ipopt and collocation). Throws InvalidInput naming the option.
+inline ocp::IpoptHessian option_hessian(const std::string& value) {
+  try {
+    return ocp::parse_ipopt_hessian(value);
+  } catch (const InvalidInput&) {
+    throw InvalidInput("--hessian", "must be 'limited-memory', 'cost' or 'exact' (got '" + value + "')");
+  }
 }
 
 /// The options struct's own check after the command's values replaced the scene's

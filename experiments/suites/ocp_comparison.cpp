@@ -150,7 +150,6 @@ std::string not_applicable(const Scene& scene, OcpSolver solver) {
         return B::direct ? "" : "the " + system + " has no direct (spline or node control) transcription in lgvi/ocp";
       case OcpSolver::Collocation:
         if (!B::collocation) return "the " + system + " has no collocation of its continuous model in lgvi/ocp/collocation.hpp";
-        if constexpr (requires { B::collocation_suite_gap; }) return B::collocation_suite_gap;
         return "";
     }
     return "?";

@@ -22,8 +22,7 @@
 //                                  collocation_columns: the names of its state y's entries and of
 //                                  its controls in the trajectory CSV, collocation_quaternions the
 //                                  number of quaternions at the head of y (the attitude systems
-//                                  write R, Omega, q instead); collocation_suite_gap, where given,
-//                                  why suite ocp-comparison leaves it out (its n/a row)
+//                                  write R, Omega, q instead)
 //   violation_norm, violation_parts   the summary's terminal violation: what its norm is, and
 //                                  its parts {name, offset, size} in the residual
 //   state_columns(c), state_row(row, lgvi, s)   the trajectory CSV's state columns
@@ -156,11 +155,6 @@ struct OcpBinding<DumbbellModel> {
   static constexpr bool indirect = true;
   static constexpr bool direct = false;
   static constexpr bool collocation = true;
-  /// Measured (`ocp dumbbell --solver collocation`): IPOPT's L-BFGS needs 1568 iterations, 21.6 s
-  /// CPU at K = 50 (1865 at K = 20), the badly scaled rod-axis rate (J_11 = 0.001) the likely cause.
-  static constexpr const char* collocation_suite_gap =
-      "collocation of the dumbbell runs (ocp dumbbell --solver collocation) but takes 1500-1900 L-BFGS iterations, "
-      "22 s at K = 50: beyond this suite's budget";
   static constexpr int collocation_quaternions = 1;
   static constexpr std::array<const char*, 19> collocation_columns = {
       "q0", "q1", "q2", "q3", "x1", "x2", "x3", "Omega1", "Omega2", "Omega3", "v1", "v2", "v3",

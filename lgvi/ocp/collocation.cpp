@@ -535,10 +535,12 @@ class CollocationNlp : public Ipopt::TNLP {
   using VecQ = typename Model::VecQ;
   using JacY = typename Model::JacY;
 
-  CollocationNlp(const Model& model, int K, const Eigen::MatrixXd& W, CollocationResult* out)
-      : model_(model), K_(K), h_(model.t_final() / K), W_(W), out_(out) {
+  CollocationNlp(const Model& model, int K, const Eigen::MatrixXd& W, CollocationResult* out,
+                 IpoptHessian hessian = IpoptHessian::LimitedMemory)
+      : model_(model), K_(K), h_(model.t_final() / K), W_(W), out_(out), hessian_(hessian) {
     n_ = kBlock * K + NY + NU;
     m_ = kRowsPerInterval * K + kTerminalRows;
+    if (hessian_ != IpoptHessian::LimitedMemory) build_hessian_structure();
     // Each attitude's target quaternion with the sign the guess's path ends at (vec(conj(q_f) q)
     // = 0 holds for either sign).
     for (int i = 0; i < NQ; ++i) {
@@ -581,7 +583,7 @@ class CollocationNlp : public Ipopt::TNLP {
     n = n_;
     m = m_;
     nnz_jac_g = nnz();
-    nnz_h_lag = 0;
+    nnz_h_lag = static_cast<Ipopt::Index>(h_rows_.size());
     style = C_STYLE;
     return true;
   }
@@ -728,9 +730,73 @@ class CollocationNlp : public Ipopt::TNLP {
     }
     return true;
   }
-  bool eval_h(Ipopt::Index, const Ipopt::Number*, bool, Ipopt::Number, Ipopt::Index, const Ipopt::Number*, bool,
-              Ipopt::Index, Ipopt::Index*, Ipopt::Index*, Ipopt::Number*) override {
-    return false;  // limited-memory
+  bool eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number sigma, Ipopt::Index m,
+              const Ipopt::Number* lambda, bool, Ipopt::Index nele, Ipopt::Index* iRow, Ipopt::Index* jCol,
+              Ipopt::Number* values) override {
+    if (hessian_ == IpoptHessian::LimitedMemory) return false;
+    if (values == nullptr) {
+      std::copy(h_rows_.begin(), h_rows_.end(), iRow);
+      std::copy(h_cols_.begin(), h_cols_.end(), jCol);
+      return nele == static_cast<Ipopt::Index>(h_rows_.size());
+    }
+    lagrangian_hessian(x, sigma, Eigen::Map<const Eigen::VectorXd>(lambda, m), values);
+    for (Ipopt::Index i = 0; i < nele; ++i) {
+      if (!std::isfinite(values[i])) return false;
+    }
+    return true;
+  }
+
+  /// The Hessian of the Lagrangian sigma J + lambda^T g at x, lower triangle in the order of
+  /// hessian_structure() (IpoptHessian::CostOnly: sigma J's alone).
+  ///
+  /// The curvature is the rate's: the defect rows of interval k are linear in the variables but
+  /// for f at its three points z = (y, u, mu_k) (node k, midpoint, node k + 1), so with the rows'
+  /// multipliers lambda_A (Hermite) and lambda_B (Simpson) the interval contributes
+  ///   sum over its points of  Hess_z (w_z^T f(z)),
+  ///   w_0 = -h/8 lambda_A - h/6 lambda_B,  w_m = -4h/6 lambda_B,  w_1 = h/8 lambda_A - h/6 lambda_B,
+  /// and the norm rows |q|^2 - 1 their multiplier times 2 I; the terminal rows are linear. Each
+  /// point's block (n_y + n_u + NQ square) is the central difference of the exact gradient
+  /// J_f(z)^T w_z along each of its coordinates, symmetrized: step eps^(1/3) max(1, |z_j|), which
+  /// balances the truncation (delta^2 |d3 f| / 6) against the gradient's round-off
+  /// (eps |J_f^T w| / delta), a relative error ~eps^(2/3) ~ 4e-11 (tests/ocp/test_collocation.cpp
+  /// compares the assembled Hessian with differences of the whole Lagrangian's gradient). Cost:
+  /// 2 (n_y + n_u + NQ) evaluations of f and J_f per point, 3 points per interval.
+  void lagrangian_hessian(const double* x, double sigma, const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                          double* values) const {
+    std::fill(values, values + h_rows_.size(), 0.0);
+    Local H;
+    for (int k = 0; k < K_; ++k) {
+      const int row = kRowsPerInterval * k;
+      const VecY lamA = lambda.template segment<NY>(row), lamB = lambda.template segment<NY>(row + NY);
+      const VecY w[3] = {VecY(-h_ / 8.0 * lamA - h_ / 6.0 * lamB), VecY(-4.0 * h_ / 6.0 * lamB),
+                         VecY(h_ / 8.0 * lamA - h_ / 6.0 * lamB)};
+      const double cost_weight[3] = {h_ / 6.0, 4.0 * h_ / 6.0, h_ / 6.0};
+      for (int p = 0; p < 3; ++p) {
+        const int first = point_first(k, p);
+        H.setZero();
+        if (hessian_ == IpoptHessian::Exact) rate_curvature(x, first, mu(k), w[p], H);
+        H.template block<NU, NU>(NY, NY) += sigma * cost_weight[p] * W_;
+        if (p == 2 && hessian_ == IpoptHessian::Exact) {
+          for (int i = 0; i < 4 * NQ; ++i) H(i, i) += 2.0 * lambda(row + 2 * NY + i / 4);
+        }
+        const int* entry = point_entries_.data() + static_cast<std::size_t>(3 * k + p) * kPointEntries;
+        for (int a = 0, e = 0; a < kPoint; ++a) {
+          for (int b = 0; b <= a; ++b) values[entry[e++]] += H(a, b);
+        }
+      }
+    }
+  }
+  int hessian_nonzeros() const { return static_cast<int>(h_rows_.size()); }
+  /// The dense symmetric Hessian of the Lagrangian at x (tests).
+  Eigen::MatrixXd dense_hessian(const double* x, double sigma, const Eigen::VectorXd& lambda) const {
+    std::vector<double> values(h_rows_.size());
+    lagrangian_hessian(x, sigma, lambda, values.data());
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n_, n_);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      H(h_rows_[i], h_cols_[i]) = values[i];
+      H(h_cols_[i], h_rows_[i]) = values[i];
+    }
+    return H;
   }
   bool intermediate_callback(Ipopt::AlgorithmMode, Ipopt::Index, Ipopt::Number obj, Ipopt::Number inf_pr,
                              Ipopt::Number, Ipopt::Number, Ipopt::Number, Ipopt::Number, Ipopt::Number, Ipopt::Number,
@@ -833,14 +899,81 @@ class CollocationNlp : public Ipopt::TNLP {
     Vec3 axis;
     double theta = 0.0;
   };
+  // A point's variables: its y and u (contiguous) and its interval's mu.
+  static constexpr int kPoint = NY + NU + NQ;
+  static constexpr int kPointEntries = kPoint * (kPoint + 1) / 2;
+  using Local = Eigen::Matrix<double, kPoint, kPoint>;
+  /// The first variable of point p (0 node k, 1 midpoint, 2 node k + 1) of interval k.
+  int point_first(int k, int p) const { return p == 0 ? y(k) : p == 1 ? ym(k) : y(k + 1); }
+  int point_variable(int k, int p, int a) const { return a < NY + NU ? point_first(k, p) + a : mu(k) + a - NY - NU; }
+
+  /// Hess_z (w^T f(z)) at the point whose (y, u) start at `first`, with mu at `mu_at`, by central
+  /// differences of J_f(z)^T w (see lagrangian_hessian), symmetrized.
+  void rate_curvature(const double* x, int first, int mu_at, const VecY& w, Local& H) const {
+    Eigen::Matrix<double, kPoint, 1> z;
+    for (int a = 0; a < NY + NU; ++a) z(a) = x[first + a];
+    for (int i = 0; i < NQ; ++i) z(NY + NU + i) = x[mu_at + i];
+    const double cbrt_eps = std::cbrt(std::numeric_limits<double>::epsilon());
+    VecY f;
+    JacY J;
+    Local D;
+    for (int j = 0; j < kPoint; ++j) {
+      const double delta = cbrt_eps * std::max(1.0, std::abs(z(j)));
+      Eigen::Matrix<double, kPoint, 1> gradient[2];
+      for (int side = 0; side < 2; ++side) {
+        Eigen::Matrix<double, kPoint, 1> zs = z;
+        zs(j) += side == 0 ? delta : -delta;
+        model_.rhs(zs.template head<NY>(), zs.template segment<NU>(NY), zs.template tail<NQ>(), f, &J);
+        gradient[side] = J.transpose() * w;
+      }
+      D.col(j) = (gradient[0] - gradient[1]) / (2.0 * delta);
+    }
+    H += 0.5 * (D + D.transpose());
+  }
+
+  /// The Hessian's lower-triangle structure: the union of every point's dense block (the rate's
+  /// curvature, the cost's W blocks and the norm rows' diagonal all lie inside them), sorted by
+  /// row then column, and each point's entries in it.
+  void build_hessian_structure() {
+    std::vector<std::pair<int, int>> pairs;
+    const auto each_entry = [&](auto&& visit) {
+      for (int k = 0; k < K_; ++k) {
+        for (int p = 0; p < 3; ++p) {
+          for (int a = 0; a < kPoint; ++a) {
+            for (int b = 0; b <= a; ++b) {
+              const int r = point_variable(k, p, a), c = point_variable(k, p, b);
+              visit(std::max(r, c), std::min(r, c));
+            }
+          }
+        }
+      }
+    };
+    each_entry([&](int r, int c) { pairs.emplace_back(r, c); });
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    h_rows_.reserve(pairs.size());
+    h_cols_.reserve(pairs.size());
+    for (const auto& [r, c] : pairs) {
+      h_rows_.push_back(r);
+      h_cols_.push_back(c);
+    }
+    point_entries_.reserve(static_cast<std::size_t>(3 * K_) * kPointEntries);
+    each_entry([&](int r, int c) {
+      const auto at = std::lower_bound(pairs.begin(), pairs.end(), std::pair{r, c});
+      point_entries_.push_back(static_cast<int>(at - pairs.begin()));
+    });
+  }
+
   const Model& model_;
   int K_;
   double h_;
   Eigen::MatrixXd W_;
   CollocationResult* out_;
+  IpoptHessian hessian_;
   std::array<Turn, NQ> turns_;
   int n_ = 0, m_ = 0;
   std::vector<double> x_;
+  std::vector<int> h_rows_, h_cols_, point_entries_;  ///< the Hessian's structure (IpoptHessian other than LimitedMemory)
 };
 
 /// Builds the model (which validates the problem) and runs IPOPT; bad input is InvalidInput.
@@ -864,17 +997,18 @@ CollocationResult solve(const System& system, const Problem& p, const Collocatio
     return out;
   }
   const int K = options.intervals;
-  Ipopt::SmartPtr<Nlp> nlp = new Nlp(*model, K, W, &out);
+  Ipopt::SmartPtr<Nlp> nlp = new Nlp(*model, K, W, &out, options.hessian);
   S_.intervals = K;
   S_.variables = nlp->n();
   S_.constraints = nlp->m();
   S_.jacobian_nonzeros = nlp->nnz();
+  S_.hessian_nonzeros = nlp->hessian_nonzeros();
   out.h = model->t_final() / K;
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   Ipopt::OptionsList& o = *app->Options();
   o.SetIntegerValue("print_level", 0);
   o.SetStringValue("sb", "yes");
-  o.SetStringValue("hessian_approximation", "limited-memory");
+  o.SetStringValue("hessian_approximation", options.hessian == IpoptHessian::LimitedMemory ? "limited-memory" : "exact");
   o.SetIntegerValue("max_iter", options.max_iterations);
   o.SetNumericValue("tol", 1e-9);
   o.SetNumericValue("constr_viol_tol", options.tolerance);
@@ -955,10 +1089,11 @@ void checked_rhs(const System& system, const Problem& problem, const Eigen::Vect
 
 template <class Model, class System, class Problem>
 collocation_detail::TranscriptionProbe make_probe(const System& system, const Problem& problem, int K,
-                                                  const Eigen::VectorXd& x) {
+                                                  const Eigen::VectorXd& x, const collocation_detail::HessianProbe& hp) {
   const Model model(system, problem);
   CollocationResult unused;
-  const CollocationNlp<Model> nlp(model, K, Eigen::MatrixXd::Identity(Model::nu, Model::nu), &unused);
+  const CollocationNlp<Model> nlp(model, K, Eigen::MatrixXd::Identity(Model::nu, Model::nu), &unused,
+                                  hp.lambda.size() > 0 ? hp.hessian : IpoptHessian::LimitedMemory);
   collocation_detail::TranscriptionProbe p;
   p.x = x;
   if (p.x.size() == 0) {
@@ -971,6 +1106,10 @@ collocation_detail::TranscriptionProbe make_probe(const System& system, const Pr
   p.cost = nlp.cost(p.x.data());
   p.cost_gradient.resize(nlp.n());
   nlp.cost_gradient(p.x.data(), p.cost_gradient.data(), nlp.n());
+  if (hp.lambda.size() > 0) {
+    if (hp.lambda.size() != nlp.m()) throw InvalidInput("lambda", "must have " + std::to_string(nlp.m()) + " entries");
+    p.hessian = nlp.dense_hessian(p.x.data(), hp.sigma, hp.lambda);
+  }
   return p;
 }
 
@@ -980,6 +1119,9 @@ void CollocationOptions::validate() const {
   kIntervals.require(intervals, "intervals");
   kTolerance.require(tolerance, "tolerance");
   kMaxIterations.require(max_iterations, "max_iterations");
+  if (hessian != IpoptHessian::LimitedMemory && hessian != IpoptHessian::CostOnly && hessian != IpoptHessian::Exact) {
+    throw InvalidInput("hessian", "must be limited-memory, cost or exact");
+  }
 }
 
 const char* to_string(CollocationStatus s) {
@@ -1048,19 +1190,19 @@ void rhs(const ConnectedBodies& system, const Eigen::VectorXd& y, const Eigen::V
   checked_rhs<ConnectedBodiesCollocationModel>(system, ConnectedBodiesTransfer::paper(), y, u, mu, f, jacobian);
 }
 TranscriptionProbe probe(const CartPendulum& system, const CartPendulumTransfer& problem, int K,
-                         const Eigen::VectorXd& x) {
-  return make_probe<CartPendulumCollocationModel>(system, problem, K, x);
+                         const Eigen::VectorXd& x, const HessianProbe& hessian) {
+  return make_probe<CartPendulumCollocationModel>(system, problem, K, x, hessian);
 }
 TranscriptionProbe probe(const ConnectedBodies& system, const ConnectedBodiesTransfer& problem, int K,
-                         const Eigen::VectorXd& x) {
-  return make_probe<ConnectedBodiesCollocationModel>(system, problem, K, x);
+                         const Eigen::VectorXd& x, const HessianProbe& hessian) {
+  return make_probe<ConnectedBodiesCollocationModel>(system, problem, K, x, hessian);
 }
 TranscriptionProbe probe(const DumbbellSpacecraft& system, const TransferProblem& problem, int K,
-                         const Eigen::VectorXd& x) {
-  return make_probe<DumbbellCollocationModel>(system, problem, K, x);
+                         const Eigen::VectorXd& x, const HessianProbe& hessian) {
+  return make_probe<DumbbellCollocationModel>(system, problem, K, x, hessian);
 }
-TranscriptionProbe probe(const Pendulum3D& system, const TransferProblem& problem, int K, const Eigen::VectorXd& x) {
-  return make_probe<PendulumCollocationModel>(system, problem, K, x);
+TranscriptionProbe probe(const Pendulum3D& system, const TransferProblem& problem, int K, const Eigen::VectorXd& x, const HessianProbe& hessian) {
+  return make_probe<PendulumCollocationModel>(system, problem, K, x, hessian);
 }
 }  // namespace collocation_detail
 

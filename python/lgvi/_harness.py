@@ -33,8 +33,8 @@ def solve_ocp(problem: "Union[str, lgvi.Scene]", *, W: "Optional[numpy.typing.Ar
     ('slsqp', 'ipopt', 'ddp'), max_iterations (evaluations), tolerance, knots, spline, gradients,
     starts, seed, first_start, hessian, state_guess, shooting_interval; solver='collocation'
     (continuous Hermite-Simpson on the quaternion model, every system with an [ocp] table): intervals,
-    tolerance, max_iterations. out: keep the files in this directory (default: a temporary one,
-    removed).
+    tolerance, max_iterations, hessian ('exact', the default; 'limited-memory'; 'cost'). out: keep
+    the files in this directory (default: a temporary one, removed).
 
     Every summary carries the replayed yardstick: the answer's controls replayed on the
     continuous quaternion model (replayed_cost, replayed_violation, replay_status).

@@ -237,6 +237,14 @@ TEST(OcpCli, CollocationWritesItsFilesAndRefusesTheDiscreteOptions) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const fs::path out = dir.work() / "out";
   const std::string json = read_text(out / "ocp-pendulum-summary.json");
+  // --hessian: exact by default; limited-memory (L-BFGS) on request
+  EXPECT_NE(json.find("\"hessian\": \"exact\""), std::string::npos) << json;
+  const CliResult lbfgs = run_testbed(dir, {"ocp", "pendulum", "--solver", "collocation", "--intervals", "20",
+                                            "--hessian", "limited-memory", "--out", "lbfgs"});
+  ASSERT_EQ(lbfgs.exit_code, 0) << lbfgs.err;
+  const std::string lbfgs_json = read_text(dir.work() / "lbfgs" / "ocp-pendulum-summary.json");
+  EXPECT_NE(lbfgs_json.find("\"hessian\": \"limited-memory\""), std::string::npos) << lbfgs_json;
+  EXPECT_NE(lbfgs_json.find("\"hessian_nonzeros\": 0,"), std::string::npos) << lbfgs_json;
   for (const char* key : {"\"solver\": \"collocation\"", "\"status\": \"converged\"", "\"intervals\": 20",
                           "\"max_defect\"", "\"quaternion_drift\"", "\"replay_interpolation\": \"piecewise-quadratic\"",
                           "\"replay_status\": \"ok\""}) {
@@ -254,7 +262,9 @@ TEST(OcpCli, CollocationWritesItsFilesAndRefusesTheDiscreteOptions) {
                   "--intervals"},
         std::pair{std::vector<std::string>{"ocp", "pendulum", "--intervals", "10", "--out", "."}, "--intervals"},
         std::pair{std::vector<std::string>{"ocp", "cart-pendulum", "--solver", "collocation", "--knots", "5", "--out", "."},
-                  "--knots"}}) {
+                  "--knots"},
+        std::pair{std::vector<std::string>{"ocp", "pendulum", "--solver", "collocation", "--hessian", "newton", "--out", "."},
+                  "--hessian"}}) {
     TempDir bad;
     const CliResult e = run_testbed(bad, args);
     EXPECT_EQ(e.exit_code, 1) << e.err;

@@ -120,7 +120,7 @@ TEST(OcpSuiteCases, ComparisonCoversEveryExampleAndMethodWithNamedGaps) {
     EXPECT_FALSE(na("pendulum", "collocation"));
     EXPECT_FALSE(na("cart-pendulum", "collocation"));
     EXPECT_FALSE(na("connected-bodies", "collocation"));
-    EXPECT_TRUE(na("dumbbell", "collocation"));  // its collocation_suite_gap: too slow for the suite
+    EXPECT_FALSE(na("dumbbell", "collocation"));
     EXPECT_FALSE(na("dumbbell", "continuous-indirect"));
   }
   const Suite s = ocp_suite("ocp-comparison", true);
