@@ -62,10 +62,10 @@
 // point's block by central differences of the exact gradient J_f^T w (collocation.cpp,
 // lagrangian_hessian; checked against differences of the whole Lagrangian's gradient); or
 // IPOPT's limited-memory (L-BFGS) approximation, or the cost's Hessian alone. Measured (`ocp NAME
-// --solver collocation`, K = 100, exact against L-BFGS): pendulum 6 against 20 iterations, the
+// --solver collocation`, K = 100, exact against L-BFGS): pendulum 7 against 20 iterations, the
 // same optimum; cart-pendulum 17 against 81 (260.02, L-BFGS another local optimum 601.11);
-// connected bodies 23 against 117, the same optimum, 2.2 against 6.5 s CPU; the dumbbell 95
-// iterations, 3.1 s, where L-BFGS took 1500-1900 (22 s at K = 50).
+// connected bodies 23 against 117, the same optimum, 2.2 against 6.5 s CPU; the dumbbell 58
+// iterations, 3.6 s, where L-BFGS took 1500-1900 (22 s at K = 50).
 //
 // The control between the nodes is the quadratic through u_k, u_m, u_{k+1} (the Hermite-Simpson
 // interpolant of Betts sec. 4.6.6): what the replay interprets (baselines/ocp_replay.hpp,
