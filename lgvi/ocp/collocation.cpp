@@ -536,7 +536,7 @@ class CollocationNlp : public Ipopt::TNLP {
   using JacY = typename Model::JacY;
 
   CollocationNlp(const Model& model, int K, const Eigen::MatrixXd& W, CollocationResult* out,
-                 IpoptHessian hessian = IpoptHessian::LimitedMemory)
+                 IpoptHessian hessian)
       : model_(model), K_(K), h_(model.t_final() / K), W_(W), out_(out), hessian_(hessian) {
     n_ = kBlock * K + NY + NU;
     m_ = kRowsPerInterval * K + kTerminalRows;
