@@ -31,11 +31,21 @@
 // (on the shared development machine under `flock /tmp/lgvi-build.lock`, so that no build runs
 // beside it): the repetitions interleaved at random, so that a slow spell of the machine spreads
 // over all methods rather than landing on one, and CPU time, so that preemption is not counted.
+//
+// Instructions per step, which do not depend on the machine's load (this VM exposes no hardware
+// counters): `--count-instructions=N` runs N steps of each attitude case's LGVI (Cayley), minimal
+// LGVI and RK4 yardsticks, each in its own instance of steps_of<Stepper>, and nothing else.
+// Under callgrind
+//   valgrind --tool=callgrind --callgrind-out-file=steps.cg
+//     ./build/experiments/benchmarks/lgvi-benchmarks --count-instructions=100000
+//   callgrind_annotate --inclusive=yes steps.cg | grep steps_of
+// each instance's inclusive count over N is the instructions per step.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <string>
 #include <utility>
@@ -438,9 +448,62 @@ class RatioReporter : public benchmark::ConsoleReporter {
   std::map<std::string, Row> rows_;
 };
 
+/// N steps from `s` by `step_once(s)` (false: the step failed) for --count-instructions: one
+/// instance per stepper type, so that callgrind counts each apart. Returns the number of steps
+/// taken.
+template <class Stepper, class State, class StepOnce>
+[[gnu::noinline]] long steps_of(const Stepper& /*names the instance*/, State s, long n,
+                                StepOnce&& step_once) {
+  for (long k = 0; k < n; ++k) {
+    if (!step_once(s)) return k;
+    benchmark::DoNotOptimize(s);
+  }
+  return n;
+}
+
+/// --count-instructions=N: N steps of each attitude case's LGVI (Cayley), minimal LGVI and RK4
+/// yardsticks, and nothing else.
+template <class System>
+void count_steps(const AttitudeCase<System>& c, long n) {
+  const AttitudeLgvi<System> lgvi(c.system);
+  const MinimalLgvi<System> minimal(c.system);
+  const QuaternionRk4<System> quaternion(c.system);
+  const MatrixRk4<System> matrix(c.system);
+  const Vec3 u = Vec3::Zero();
+  const long taken[] = {
+      steps_of(lgvi, lgvi.make_state(c.R0, c.Omega0), n,
+               [&](AttitudeState& s) { return lgvi.step(s, c.h, u, u, s).converged(); }),
+      steps_of(minimal, minimal.make_state(c.R0, c.Omega0), n,
+               [&](AttitudeState& s) { return minimal.step(s, c.h) >= 0; }),
+      steps_of(quaternion, quaternion.make_state(c.R0, c.Omega0), n, [&](auto& s) {
+        quaternion.step(s, c.h);
+        return true;
+      }),
+      steps_of(matrix, matrix.make_state(c.R0, c.Omega0), n, [&](auto& s) {
+        matrix.step(s, c.h);
+        return true;
+      })};
+  std::printf("%s: steps taken: lgvi-cayley %ld, lgvi-minimal %ld, rk4-quaternion %ld, rk4-matrix %ld\n",
+              c.name.c_str(), taken[0], taken[1], taken[2], taken[3]);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  const std::string count_flag = "--count-instructions=";
+  if (argc == 2 && std::string(argv[1]).rfind(count_flag, 0) == 0) {
+    const std::string value = std::string(argv[1]).substr(count_flag.size());
+    char* end = nullptr;
+    const long n = std::strtol(value.c_str(), &end, 10);
+    if (value.empty() || *end != '\0' || n <= 0) {
+      std::fprintf(stderr, "%s: --count-instructions wants a positive number of steps, not '%s'\n",
+                   argv[0], value.c_str());
+      return 2;
+    }
+    count_steps(benchmarks::free_body_case(), n);
+    count_steps(benchmarks::pendulum_case(), n);
+    return 0;
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
 
