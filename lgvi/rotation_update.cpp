@@ -50,7 +50,8 @@ RotationUpdateSolver::RotationUpdateSolver(const Inertia& inertia, RotationUpdat
     : inertia_(inertia),
       options_(options),
       domain_bound_(std::sqrt(2.0) * inertia.Jd.norm()),
-      J_norm_(inertia.J.norm()) {
+      J_norm_(inertia.J.norm()),
+      cayley_det2_floor_(64.0 * kEps * std::pow(J_norm_, 6)) {
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(inertia.J);
   const Vec3 moments = eig.eigenvalues();  // increasing
   const Vec3 d = Vec3::Constant(0.5 * moments.sum()) - moments;  // J_d in the principal frame

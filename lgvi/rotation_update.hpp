@@ -34,9 +34,10 @@
 // (adjugate), the iteration on plain doubles (lgvi/plain3.hpp), convergence tested on |H|^2 (no
 // division or square root of G per iteration), the summary's residual stored as |H|^2 and
 // evaluated only when read. It stops at the first thing it does not handle: a nearly singular
-// Newton matrix, a non-finite value, the iteration cap, or a converged |G| that wants the
-// polishing step; slow_path() then continues newton() from that very iterate (pivoted LU,
-// polishing, failure summary), then the fallback chart, then the diagnosis, so a solve gives the
+// Newton matrix (by a cheaper, more cautious guard than newton()'s, see newton_fast), a
+// non-finite value, the iteration cap, or a converged |G| that wants the polishing step;
+// slow_path() then continues newton() from where it stopped (pivoted LU, polishing, failure
+// summary), then the fallback chart, then the diagnosis, so a solve gives the
 // iterates and iteration counts of newton() alone. The steps that call it are flattened
 // (LGVI_FLATTEN) and apply F without forming it (RotationStep). The exponential chart takes one
 // sin/cos pair of the half angle per evaluation, and F reuses the last one. All this changes the
@@ -48,6 +49,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "lgvi/inertia.hpp"
 #include "lgvi/plain3.hpp"
@@ -197,6 +199,7 @@ class RotationUpdateSolver {
   RotationUpdateOptions options_;
   double domain_bound_;
   double J_norm_;  ///< ||J||_F, the scale of G's terms in the convergence test
+  double cayley_det2_floor_;  ///< 64 eps ||J||_F^6: newton_fast's guard of the Cayley chart
   Mat3 axis_map_;  ///< diag(1 / (|d_j| + |d_k|)) Q^T: hp -> (h p)_i / J_i in the principal frame
 };
 
@@ -224,6 +227,17 @@ inline bool solve_adjugate(const M3& A, const V3& b, V3& x) {
   const double det = dot(A.c0, k0);
   const double frobenius2 = dot(A.c0, A.c0) + dot(A.c1, A.c1) + dot(A.c2, A.c2);
   if (!(det * det > kEps * (frobenius2 * frobenius2 * frobenius2))) return false;
+  const double inverse = 1.0 / det;
+  x = {dot(b, k0) * inverse, dot(b, k1) * inverse, dot(b, k2) * inverse};
+  return true;
+}
+/// solve_adjugate's arithmetic with the guard det A^2 > det2_floor, for a caller that knows a
+/// floor at least eps ||A||_F^6 without forming ||A||_F (newton_fast): wherever this one solves,
+/// solve_adjugate gives the same x.
+inline bool solve_adjugate_above(const M3& A, const V3& b, double det2_floor, V3& x) {
+  const V3 k0 = cross(A.c1, A.c2), k1 = cross(A.c2, A.c0), k2 = cross(A.c0, A.c1);
+  const double det = dot(A.c0, k0);
+  if (!(det * det > det2_floor)) return false;
   const double inverse = 1.0 / det;
   x = {dot(b, k0) * inverse, dot(b, k1) * inverse, dot(b, k2) * inverse};
   return true;
@@ -263,7 +277,7 @@ inline Vec3 solve3(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& b
 struct CayleyChart {
   struct Evaluation {
     V3 H, Jf;
-    double h_per_g, size_h;
+    double t, h_per_g, size_h;  ///< t = |f|
   };
   static V3 warm_start(const Inertia& I, const V3& hp) { return 0.5 * (m3(I.J_inverse) * hp); }
   /// a = b = 2 / (1 + |f|^2) of F = I + a hat(f) + b hat(f)^2 at the evaluated f.
@@ -273,7 +287,8 @@ struct CayleyChart {
     const double f2 = dot(f, f);
     e.h_per_g = 0.5 * (1.0 + f2);
     e.H = e.Jf + cross(f, e.Jf) - e.h_per_g * hp;
-    e.size_h = std::sqrt(f2) + f2;
+    e.t = std::sqrt(f2);
+    e.size_h = e.t + f2;
   }
   static M3 newton_matrix(const M3& J, const V3& hp, const V3& f, const Evaluation& e) {
     const V3& w = e.Jf;
@@ -441,17 +456,42 @@ struct FastNewton {
 /// true on convergence (summary and `out` written); otherwise false with the iterate where it
 /// stopped in `at`, from which newton() continues (the slow path) to the result newton() alone
 /// would have given, iteration counts included.
+///
+/// It may stop earlier than newton() would fail, never later: newton() then re-takes the same
+/// steps. Two tests are cheaper than newton()'s for that reason (measured by instruction counts,
+/// docs/validate.md#step-cost):
+///  - Cayley chart: the conditioning guard without ||dH||_F. With t = |f|, ||dH||_F <= ||J||_F +
+///    t ||J||_F + sqrt(2) |J f| + |h p| t <= ||J||_F + t ((1 + sqrt 2) ||J||_F + |h p|), so while
+///    t ((1 + sqrt 2) ||J||_F + |h p|) <= 0.9 ||J||_F, ||dH||_F <= 1.9 ||J||_F and
+///    det^2 > 64 eps ||J||_F^6 = `cayley_det2_floor` implies solve_adjugate's guard (the margin
+///    covers the rounding of its computed norm). Otherwise (a step's rotation over 30-40 degrees,
+///    t = tan(theta / 2) > 0.26-0.37, or cond(dH) above ~1e7) the fast path stops and newton()
+///    decides.
+///  - Finiteness: newton() stops on a non-finite residual or Newton step; here the step is not
+///    tested, a non-finite one shows as a non-finite residual at the next iterate, and the fast
+///    path then hands back the iterate before that step, from which newton() re-takes it and
+///    stops where it would have.
 template <class Chart>
 inline bool newton_fast(const Inertia& I, double J_norm, const RotationUpdateOptions& o,
-                        const V3& hp, double rhs_norm, RotationStep& out,
-                        RotationUpdateSummary& s, FastNewton& at) {
+                        const V3& hp, double rhs_norm, double cayley_det2_floor,
+                        RotationStep& out, RotationUpdateSummary& s, FastNewton& at) {
   const M3 J = m3(I.J);
   V3 f = Chart::warm_start(I, hp);
+  V3 f_before = f;  // the iterate before the last Newton step
   typename Chart::Evaluation e;
   int iterations = 0;
+  [[maybe_unused]] const double t_limit =
+      0.9 * J_norm / ((1.0 + std::sqrt(2.0)) * J_norm + rhs_norm);  // the Cayley guard's, above
   for (;;) {
     Chart::evaluate(J, hp, f, e);
     const double h2 = dot(e.H, e.H);
+    if (!std::isfinite(h2)) [[unlikely]] {
+      if (iterations > 0) {
+        f = f_before;
+        --iterations;
+      }
+      break;
+    }
     const double tol_h = converged_bound(o, rhs_norm, J_norm, e);
     if (h2 <= tol_h * tol_h) {
       if (wants_polish(o, rhs_norm, h2, e)) break;
@@ -463,9 +503,16 @@ inline bool newton_fast(const Inertia& I, double J_norm, const RotationUpdateOpt
       Chart::coefficients(e, out.a, out.b);
       return true;
     }
-    if (iterations >= o.max_iterations || !std::isfinite(h2)) break;
+    if (iterations >= o.max_iterations) break;
     V3 step;
-    if (!solve_adjugate(Chart::newton_matrix(J, hp, f, e), e.H, step) || !all_finite(step)) break;
+    if constexpr (std::is_same_v<Chart, CayleyChart>) {
+      if (!(e.t <= t_limit) ||
+          !solve_adjugate_above(Chart::newton_matrix(J, hp, f, e), e.H, cayley_det2_floor, step))
+        break;
+    } else {
+      if (!solve_adjugate(Chart::newton_matrix(J, hp, f, e), e.H, step)) break;
+    }
+    f_before = f;
     f = f - step;
     ++iterations;
   }
@@ -532,8 +579,10 @@ LGVI_FLATTEN inline RotationUpdateSummary RotationUpdateSolver::solve(const Vec3
   d::FastNewton at;
   const bool converged =
       options_.primary == Parametrization::Cayley
-          ? d::newton_fast<d::CayleyChart>(inertia_, J_norm_, options_, b, rhs_norm, step, s, at)
-          : d::newton_fast<d::ExponentialChart>(inertia_, J_norm_, options_, b, rhs_norm, step, s, at);
+          ? d::newton_fast<d::CayleyChart>(inertia_, J_norm_, options_, b, rhs_norm,
+                                           cayley_det2_floor_, step, s, at)
+          : d::newton_fast<d::ExponentialChart>(inertia_, J_norm_, options_, b, rhs_norm,
+                                                cayley_det2_floor_, step, s, at);
   if (converged) [[likely]] {
     step.chart = options_.primary;
     return s;
