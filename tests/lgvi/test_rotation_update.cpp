@@ -676,6 +676,55 @@ TEST(RotationUpdateFastPath, GivesTheWholeMethodsIteratesCountsAndResiduals) {
   }
 }
 
+// The fast path's Cayley guard (rotation_update.hpp, newton_fast) rests on two facts, checked
+// here on random inertias, right-hand sides up to the domain bound and iterates up to the guard's
+// limit |f| ((1 + sqrt 2) ||J||_F + |h p|) <= 0.9 ||J||_F: the Newton matrix's Frobenius norm is
+// then at most 1.9 ||J||_F (the triangle inequality of newton_fast's comment; a wrong term in it
+// would show here as a norm above the bound), and wherever the cheaper guard det^2 > 64 eps
+// ||J||_F^6 lets the adjugate solve, the whole method's guard (eps ||dH||_F^6) does too and gives
+// the same bits. Matrices scaled to be nearly singular exercise the guard's other side.
+TEST(RotationUpdateFastPath, CayleyGuardImpliesTheWholeMethodsGuard) {
+  namespace d = rotation_update_detail;
+  auto rng = test::make_rng(713);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> normal;
+  int solved = 0, refused = 0;
+  double worst_norm_ratio = 0.0;
+  for (int k = 0; k < 4000; ++k) {
+    const Inertia I = Inertia::from(random_valid_inertia(rng));
+    const RotationUpdateSolver solver(I);
+    const double J_norm = I.J.norm();
+    const Vec3 hp = uniform(rng) * solver.domain_bound() *
+                    Vec3(normal(rng), normal(rng), normal(rng)).normalized();
+    const double t_limit = 0.9 * J_norm / ((1.0 + std::sqrt(2.0)) * J_norm + hp.norm());
+    const Vec3 f = t_limit * std::sqrt(uniform(rng)) * Vec3(normal(rng), normal(rng), normal(rng)).normalized();
+    d::CayleyChart::Evaluation e;
+    const d::M3 J = d::m3(I.J);
+    d::CayleyChart::evaluate(J, d::v3(hp), d::v3(f), e);
+    ASSERT_LE(e.t, t_limit);
+    d::M3 A = d::CayleyChart::newton_matrix(J, d::v3(hp), d::v3(f), e);
+    const double frobenius = std::sqrt(d::dot(A.c0, A.c0) + d::dot(A.c1, A.c1) + d::dot(A.c2, A.c2));
+    worst_norm_ratio = std::max(worst_norm_ratio, frobenius / J_norm);
+    EXPECT_LE(frobenius, 1.9 * J_norm * (1.0 + 8.0 * kEps));
+    if (k % 4 == 3) A.c2 = A.c0 + 1e-9 * uniform(rng) * A.c2;  // nearly singular
+    const double floor = 64.0 * kEps * std::pow(J_norm, 6);
+    d::V3 cheap{0, 0, 0}, whole{0, 0, 0};
+    if (d::solve_adjugate_above(A, e.H, floor, cheap)) {
+      ++solved;
+      ASSERT_TRUE(d::solve_adjugate(A, e.H, whole));
+      EXPECT_EQ(cheap.x, whole.x);
+      EXPECT_EQ(cheap.y, whole.y);
+      EXPECT_EQ(cheap.z, whole.z);
+    } else {
+      ++refused;
+    }
+  }
+  std::cout << "[ measured ] Cayley guard: " << solved << " solved, " << refused
+            << " refused; worst ||dH||_F / ||J||_F " << worst_norm_ratio << " (bound 1.9)\n";
+  EXPECT_GT(refused, 0) << "no nearly singular case reached the guard's other side";
+  EXPECT_GT(solved, 2000);
+}
+
 // RotationStep applies F without forming it: R F and F^T k agree with the products by F =
 // step.matrix(). Bound: each entry, either way, is a sum of at most three terms of size <= its
 // row's norm (|r_i| = 1; |k|), rounded at most 4 times, so within ~2 eps of the exact value and
