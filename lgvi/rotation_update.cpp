@@ -51,7 +51,7 @@ RotationUpdateSolver::RotationUpdateSolver(const Inertia& inertia, RotationUpdat
       options_(options),
       domain_bound_(std::sqrt(2.0) * inertia.Jd.norm()),
       J_norm_(inertia.J.norm()),
-      cayley_det2_floor_(64.0 * kEps * std::pow(J_norm_, 6)) {
+      cayley_det2_floor_(rotation_update_detail::cayley_det2_floor(J_norm_)) {
   const Eigen::SelfAdjointEigenSolver<Mat3> eig(inertia.J);
   const Vec3 moments = eig.eigenvalues();  // increasing
   const Vec3 d = Vec3::Constant(0.5 * moments.sum()) - moments;  // J_d in the principal frame

@@ -222,18 +222,9 @@ using namespace plain;
 /// is ~eps ||A||^3 / |det A| <= sqrt(eps) past the guard, harmless in a Newton correction, and
 /// ||A||_F^3 / |det A| >= cond_2(A) (s1 <= ||A||_F, s1 s2 <= ||A||_F^2), so the guard trips
 /// before cond(A) reaches 1 / sqrt(eps) ~ 7e7. Below it the caller uses a pivoted LU.
-inline bool solve_adjugate(const M3& A, const V3& b, V3& x) {
-  const V3 k0 = cross(A.c1, A.c2), k1 = cross(A.c2, A.c0), k2 = cross(A.c0, A.c1);
-  const double det = dot(A.c0, k0);
-  const double frobenius2 = dot(A.c0, A.c0) + dot(A.c1, A.c1) + dot(A.c2, A.c2);
-  if (!(det * det > kEps * (frobenius2 * frobenius2 * frobenius2))) return false;
-  const double inverse = 1.0 / det;
-  x = {dot(b, k0) * inverse, dot(b, k1) * inverse, dot(b, k2) * inverse};
-  return true;
-}
-/// solve_adjugate's arithmetic with the guard det A^2 > det2_floor, for a caller that knows a
-/// floor at least eps ||A||_F^6 without forming ||A||_F (newton_fast): wherever this one solves,
-/// solve_adjugate gives the same x.
+/// The adjugate solve with the guard det A^2 > det2_floor: solve_adjugate with det2_floor =
+/// eps ||A||_F^6, and newton_fast with a floor at least that, known without forming ||A||_F
+/// (the same arithmetic, so wherever the latter solves, solve_adjugate gives the same x).
 inline bool solve_adjugate_above(const M3& A, const V3& b, double det2_floor, V3& x) {
   const V3 k0 = cross(A.c1, A.c2), k1 = cross(A.c2, A.c0), k2 = cross(A.c0, A.c1);
   const double det = dot(A.c0, k0);
@@ -241,6 +232,10 @@ inline bool solve_adjugate_above(const M3& A, const V3& b, double det2_floor, V3
   const double inverse = 1.0 / det;
   x = {dot(b, k0) * inverse, dot(b, k1) * inverse, dot(b, k2) * inverse};
   return true;
+}
+inline bool solve_adjugate(const M3& A, const V3& b, V3& x) {
+  const double frobenius2 = dot(A.c0, A.c0) + dot(A.c1, A.c1) + dot(A.c2, A.c2);
+  return solve_adjugate_above(A, b, kEps * (frobenius2 * frobenius2 * frobenius2), x);
 }
 inline bool solve_adjugate(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& b,
                            Vec3& x) {
@@ -443,6 +438,12 @@ inline RotationUpdateSummary newton(const Inertia& I, double J_norm, const Rotat
   return s;
 }
 
+/// The Cayley fast guard's limit on t = |f| and its floor on det(dH)^2 (see newton_fast).
+inline double cayley_fast_t_limit(double J_norm, double rhs_norm) {
+  return 0.9 * J_norm / ((1.0 + std::sqrt(2.0)) * J_norm + rhs_norm);
+}
+inline double cayley_det2_floor(double J_norm) { return 64.0 * kEps * std::pow(J_norm, 6); }
+
 /// Where newton_fast stopped: the iterate and the iterations taken to reach it.
 struct FastNewton {
   V3 f;
@@ -480,8 +481,7 @@ inline bool newton_fast(const Inertia& I, double J_norm, const RotationUpdateOpt
   V3 f_before = f;  // the iterate before the last Newton step
   typename Chart::Evaluation e;
   int iterations = 0;
-  [[maybe_unused]] const double t_limit =
-      0.9 * J_norm / ((1.0 + std::sqrt(2.0)) * J_norm + rhs_norm);  // the Cayley guard's, above
+  [[maybe_unused]] const double t_limit = cayley_fast_t_limit(J_norm, rhs_norm);
   for (;;) {
     Chart::evaluate(J, hp, f, e);
     const double h2 = dot(e.H, e.H);

@@ -696,7 +696,7 @@ TEST(RotationUpdateFastPath, CayleyGuardImpliesTheWholeMethodsGuard) {
     const double J_norm = I.J.norm();
     const Vec3 hp = uniform(rng) * solver.domain_bound() *
                     Vec3(normal(rng), normal(rng), normal(rng)).normalized();
-    const double t_limit = 0.9 * J_norm / ((1.0 + std::sqrt(2.0)) * J_norm + hp.norm());
+    const double t_limit = d::cayley_fast_t_limit(J_norm, hp.norm());
     const Vec3 f = t_limit * std::sqrt(uniform(rng)) * Vec3(normal(rng), normal(rng), normal(rng)).normalized();
     d::CayleyChart::Evaluation e;
     const d::M3 J = d::m3(I.J);
@@ -707,7 +707,7 @@ TEST(RotationUpdateFastPath, CayleyGuardImpliesTheWholeMethodsGuard) {
     worst_norm_ratio = std::max(worst_norm_ratio, frobenius / J_norm);
     EXPECT_LE(frobenius, 1.9 * J_norm * (1.0 + 8.0 * kEps));
     if (k % 4 == 3) A.c2 = A.c0 + 1e-9 * uniform(rng) * A.c2;  // nearly singular
-    const double floor = 64.0 * kEps * std::pow(J_norm, 6);
+    const double floor = d::cayley_det2_floor(J_norm);
     d::V3 cheap{0, 0, 0}, whole{0, 0, 0};
     if (d::solve_adjugate_above(A, e.H, floor, cheap)) {
       ++solved;
